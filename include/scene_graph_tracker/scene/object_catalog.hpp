@@ -1,0 +1,70 @@
+// The object catalog: which classes the tracker knows, their meshes and symmetries.
+// Loaded from YAML (config/objects.yaml); symmetries as in BOP's model_info.json.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene_graph_tracker/geometry/triangle_mesh.hpp"
+
+namespace sgt {
+
+class CatalogError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ContinuousSymmetry {
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit, object frame
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // a point on the axis
+};
+
+struct Symmetry {
+  std::vector<Eigen::Isometry3d> discrete;  // without the identity
+  std::vector<ContinuousSymmetry> continuous;
+  bool any() const { return !discrete.empty() || !continuous.empty(); }
+  // Symmetry transforms S (T_true * S looks the same as T_true), identity first; continuous
+  // symmetries are sampled every `continuous_step_rad`. Used by symmetry-aware errors.
+  std::vector<Eigen::Isometry3d> sampled(double continuous_step_rad = M_PI / 36.0) const;
+};
+
+struct ObjectClass {
+  std::string name;
+  std::string mesh_path;  // resolved file path
+  std::shared_ptr<const TriangleMesh> mesh;
+  Symmetry symmetry;
+  Eigen::AlignedBox3f box;  // of the mesh, object frame
+  double diameter = 0.0;
+};
+
+class ObjectCatalog {
+ public:
+  void add(ObjectClass object);
+  bool contains(const std::string& name) const { return classes_.count(name) > 0; }
+  const ObjectClass& get(const std::string& name) const;
+  std::vector<std::string> names() const;
+  std::size_t size() const { return classes_.size(); }
+
+ private:
+  std::map<std::string, ObjectClass> classes_;
+};
+
+// Format:
+//   mesh_dir: optional directory relative mesh paths are resolved against (default: the
+//             YAML file's directory)
+//   objects:
+//     multimeter:
+//       mesh: package://scene_graph_tracker/meshes/multimeter.stl   # path, file:// or package://
+//       scale: 1.0                                                  # optional
+//       symmetries_discrete: [[16 numbers, row-major 4x4], ...]      # optional
+//       symmetries_continuous: [{axis: [1, 0, 0], offset: [0, 0, 0]}]  # optional
+// `mesh_dir_override`, when not empty, replaces mesh_dir and makes every mesh be looked up by
+// its file name in that directory or its sub-directory named after the class (so a catalog can
+// point at another set of meshes, e.g. ../shared/data/pbr_objects/meshes).
+ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string& mesh_dir_override = "");
+
+}  // namespace sgt

@@ -1,0 +1,150 @@
+// The ray-casting scene: the static map plus object instances on Embree 3.
+//
+// Every distinct mesh becomes one Embree scene (a bottom-level BVH) shared by all instances of
+// it; the static map is one such mesh, instanced once with the identity. The top-level scene
+// holds only instances (RTC_SCENE_FLAG_DYNAMIC, low build quality), so moving k instances and
+// committing rebuilds a tree over instances, never the building's triangles.
+//
+// Casting goes over coherent 4x4 tiles of a sensor's ray grid with rtcIntersect16 and the
+// coherent context flag, in parallel over tiles (TBB). Each ray yields its range, world hit
+// point, unit world normal (instance rotation applied; faces the ray), the hit's scene-graph
+// node id and primitive id.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "scene_graph_tracker/geometry/triangle_mesh.hpp"
+#include "scene_graph_tracker/scene/node_id.hpp"
+#include "scene_graph_tracker/sensors/sensor_models.hpp"
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace sgt {
+
+using MeshId = std::int32_t;
+
+struct RayHits {
+  int width = 0;
+  int height = 0;
+  std::vector<float> range;              // along the unit ray; +inf when nothing was hit
+  std::vector<Eigen::Vector3f> point;    // world frame
+  std::vector<Eigen::Vector3f> normal;   // world frame, unit, facing the ray origin
+  std::vector<NodeId> node;              // kNoNode when nothing was hit
+  std::vector<std::uint32_t> primitive;  // triangle index in the hit mesh
+
+  std::size_t size() const { return range.size(); }
+  bool hit(std::size_t i) const { return node[i] != kNoNode; }
+  void resize(int w, int h);
+};
+
+// Rectangle of a ray grid: columns [x0, x1), rows [y0, y1).
+struct GridRect {
+  int x0, y0, x1, y1;
+};
+
+// The tiles of a ray grid a cast covers (all tiles when built without rectangles).
+class TileSet {
+ public:
+  TileSet() = default;
+  static TileSet all(const SensorRays& rays);
+  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects);
+
+  int tileWidth() const { return tile_w_; }
+  int tileHeight() const { return tile_h_; }
+  const std::vector<std::int32_t>& tiles() const { return tiles_; }  // tile indices
+  std::size_t rayCount() const { return tiles_.size() * static_cast<std::size_t>(tile_w_ * tile_h_); }
+  // Calls f(ray_index) for every ray of the grid inside the covered tiles.
+  template <typename F>
+  void forEachRay(const SensorRays& rays, F&& f) const;
+
+ private:
+  friend class RaycastScene;
+  TileSet(const SensorRays& rays);
+  int tile_w_ = 4, tile_h_ = 4, tiles_x_ = 0;
+  std::vector<std::int32_t> tiles_;
+};
+
+struct RaycastSceneOptions {
+  // Build quality of each mesh's BVH, built once per mesh: 0 low, 1 medium, 2 high.
+  int object_build_quality = 2;
+  int static_map_build_quality = 1;
+};
+
+class RaycastScene {
+ public:
+  explicit RaycastScene(const RaycastSceneOptions& options = {});
+  ~RaycastScene();
+  RaycastScene(const RaycastScene&) = delete;
+  RaycastScene& operator=(const RaycastScene&) = delete;
+
+  // Registers a mesh and builds its BVH; instances of it share that BVH.
+  MeshId addMesh(std::shared_ptr<const TriangleMesh> mesh);
+  const TriangleMesh& mesh(MeshId id) const;
+  std::size_t meshCount() const { return meshes_.size(); }
+
+  // The static map (building) as node `node`, with the identity pose. Replaces a previous map.
+  void setStaticMap(std::shared_ptr<const TriangleMesh> map, NodeId node);
+  NodeId staticMapNode() const { return static_map_node_; }
+
+  // Instances are keyed by scene-graph node id; a node has at most one instance.
+  void addInstance(NodeId node, MeshId mesh, const Eigen::Isometry3d& T_world_object);
+  void setInstancePose(NodeId node, const Eigen::Isometry3d& T_world_object);
+  void removeInstance(NodeId node);
+  // A disabled instance is invisible to rays (e.g. to ask what lies behind an object).
+  void setInstanceEnabled(NodeId node, bool enabled);
+  bool hasInstance(NodeId node) const { return slot_of_node_.count(node) > 0; }
+  std::size_t instanceCount() const { return slot_of_node_.size(); }
+  Eigen::Isometry3d instancePose(NodeId node) const;
+  MeshId instanceMesh(NodeId node) const;
+
+  // Applies pending changes. Casting a scene with uncommitted changes throws.
+  void commit();
+
+  // Casts every ray of `tiles` (all rays by default) from the sensor pose into `hits`
+  // (resized to the grid; rays outside the tiles are left untouched).
+  void cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
+            const TileSet* tiles = nullptr) const;
+
+ private:
+  struct Slot {
+    NodeId node = kNoNode;
+    MeshId mesh = -1;
+    bool used = false;
+    Eigen::Matrix3f R = Eigen::Matrix3f::Identity();  // for normals
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  };
+  unsigned slotFor(NodeId node) const;
+  unsigned attachInstance(NodeId node, MeshId mesh, const Eigen::Isometry3d& T);
+  void writeTransform(unsigned slot, const Eigen::Isometry3d& T);
+
+  RaycastSceneOptions options_;
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* top_ = nullptr;
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
+  std::vector<RTCSceneTy*> mesh_scenes_;
+  std::vector<Slot> slots_;          // indexed by Embree geometry id (dense)
+  std::vector<unsigned> free_slots_;
+  std::unordered_map<NodeId, unsigned> slot_of_node_;
+  NodeId static_map_node_ = kNoNode;
+  MeshId static_map_mesh_ = -1;
+  bool dirty_ = false;
+};
+
+// ---------------------------------------------------------------------------------------------
+template <typename F>
+void TileSet::forEachRay(const SensorRays& rays, F&& f) const {
+  for (const auto t : tiles_) {
+    const int tx = t % tiles_x_, ty = t / tiles_x_;
+    const int x0 = tx * tile_w_, y0 = ty * tile_h_;
+    const int x1 = std::min(x0 + tile_w_, rays.width), y1 = std::min(y0 + tile_h_, rays.height);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) f(static_cast<std::size_t>(y) * rays.width + x);
+  }
+}
+
+}  // namespace sgt

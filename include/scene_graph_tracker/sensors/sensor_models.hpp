@@ -1,0 +1,82 @@
+// Sensor models as plain structs (after Rmagine) and the ray grids they define.
+//
+// Every model turns into SensorRays: a width x height grid of unit directions in the sensor
+// frame, row-major (index = row * width + col), that the ray-casting scene casts from a sensor
+// pose. Keeping the grid shape lets the scene cast coherent 4x4 tiles.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace sgt {
+
+// Pinhole camera in the optical frame (REP-103: z forward, x right, y down), parameters as in
+// sensor_msgs/CameraInfo's K. A pixel's ray goes through the pixel centre (u + 0.5 is not used:
+// CameraInfo's cx, cy already refer to pixel centres at integer coordinates).
+struct PinholeModel {
+  int width = 640;
+  int height = 480;
+  double fx = 525.0, fy = 525.0;
+  double cx = 319.5, cy = 239.5;
+  float range_min = 0.2f;
+  float range_max = 10.0f;
+
+  Eigen::Vector3f direction(int u, int v) const {  // unit
+    return Eigen::Vector3f(static_cast<float>((u - cx) / fx), static_cast<float>((v - cy) / fy), 1.0f)
+        .normalized();
+  }
+  // Pixel of a point in the optical frame; nullopt behind the camera.
+  std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p) const {
+    if (p.z() <= 1e-9) return std::nullopt;
+    return Eigen::Vector2d(fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy);
+  }
+  // Primesense / Asus Xtion style camera of the paper: 640x480, ~58 deg horizontal FOV.
+  static PinholeModel xtion() { return PinholeModel{}; }
+};
+
+// Spinning multi-beam LiDAR in its own frame (x forward, y left, z up). Columns sweep the
+// azimuth counter-clockwise from theta_min in steps of theta_inc; rows are rings from
+// phi_min (lowest) to phi_max. Defaults: Velodyne VLP-16 in the paper's 1824-column mode.
+struct SpinningLidarModel {
+  int columns = 1824;
+  int rings = 16;
+  double theta_min = -M_PI;
+  double theta_inc = 2.0 * M_PI / 1824.0;
+  double phi_min = -15.0 * M_PI / 180.0;
+  double phi_max = 15.0 * M_PI / 180.0;
+  float range_min = 0.4f;
+  float range_max = 100.0f;
+
+  double phiInc() const { return rings > 1 ? (phi_max - phi_min) / (rings - 1) : 0.0; }
+  Eigen::Vector3f direction(int col, int ring) const {
+    const double theta = theta_min + col * theta_inc;
+    const double phi = phi_min + ring * phiInc();
+    return Eigen::Vector3f(static_cast<float>(std::cos(phi) * std::cos(theta)),
+                           static_cast<float>(std::cos(phi) * std::sin(theta)),
+                           static_cast<float>(std::sin(phi)));
+  }
+  static SpinningLidarModel vlp16() { return SpinningLidarModel{}; }
+};
+
+struct SensorRays {
+  int width = 0;
+  int height = 0;
+  std::vector<Eigen::Vector3f> directions;  // unit, sensor frame, row-major
+  // Per-ray origins in the sensor frame; empty means all rays start at the sensor origin.
+  std::vector<Eigen::Vector3f> origins;
+  float range_min = 0.0f;
+  float range_max = std::numeric_limits<float>::infinity();
+
+  std::size_t size() const { return directions.size(); }
+  int index(int col, int row) const { return row * width + col; }
+};
+
+SensorRays makeRays(const PinholeModel& model);
+SensorRays makeRays(const SpinningLidarModel& model);
+// An arbitrary ray set (normalises the directions); a single row.
+SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::Vector3f> origins = {},
+                    float range_min = 0.0f, float range_max = std::numeric_limits<float>::infinity());
+
+}  // namespace sgt

@@ -1,0 +1,150 @@
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+
+#include "scene_graph_tracker/geometry/mesh_io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sgt {
+
+std::vector<Eigen::Isometry3d> Symmetry::sampled(double step) const {
+  std::vector<Eigen::Isometry3d> base{Eigen::Isometry3d::Identity()};
+  base.insert(base.end(), discrete.begin(), discrete.end());
+  std::vector<Eigen::Isometry3d> out = base;
+  for (const auto& c : continuous) {
+    std::vector<Eigen::Isometry3d> next;
+    const int n = std::max(1, static_cast<int>(std::round(2.0 * M_PI / step)));
+    for (const auto& S : out)
+      for (int k = 0; k < n; ++k) {
+        Eigen::Isometry3d rot = Eigen::Isometry3d::Identity();
+        rot.translate(c.offset);
+        rot.rotate(Eigen::AngleAxisd(2.0 * M_PI * k / n, c.axis));
+        rot.translate(-c.offset);
+        next.push_back(S * rot);
+      }
+    out = std::move(next);
+  }
+  return out;
+}
+
+void ObjectCatalog::add(ObjectClass object) {
+  const std::string name = object.name;
+  classes_[name] = std::move(object);
+}
+
+const ObjectClass& ObjectCatalog::get(const std::string& name) const {
+  const auto it = classes_.find(name);
+  if (it == classes_.end()) throw CatalogError("object catalog: unknown class '" + name + "'");
+  return it->second;
+}
+
+std::vector<std::string> ObjectCatalog::names() const {
+  std::vector<std::string> out;
+  for (const auto& kv : classes_) out.push_back(kv.first);
+  return out;
+}
+
+namespace {
+
+std::string where(const YAML::Node& n) {
+  return n.Mark().line >= 0 ? " (line " + std::to_string(n.Mark().line + 1) + ")" : "";
+}
+
+Symmetry parseSymmetry(const YAML::Node& node, const std::string& ctx) {
+  Symmetry sym;
+  if (const auto d = node["symmetries_discrete"]) {
+    for (const auto& m : d) {
+      if (m.size() != 16) throw CatalogError(ctx + ": symmetries_discrete entries need 16 numbers" + where(m));
+      Eigen::Matrix4d M;
+      for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i].as<double>();
+      Eigen::Isometry3d T(M);
+      // BOP stores translations in mm; our meshes are in metres.
+      if (T.translation().norm() > 1.0) T.translation() *= 1e-3;
+      sym.discrete.push_back(T);
+    }
+  }
+  if (const auto c = node["symmetries_continuous"]) {
+    for (const auto& s : c) {
+      ContinuousSymmetry cs;
+      const auto axis = s["axis"], offset = s["offset"];
+      if (!axis || axis.size() != 3) throw CatalogError(ctx + ": continuous symmetry needs axis: [x, y, z]" + where(s));
+      cs.axis = Eigen::Vector3d(axis[0].as<double>(), axis[1].as<double>(), axis[2].as<double>());
+      if (!(cs.axis.norm() > 0)) throw CatalogError(ctx + ": continuous symmetry axis is zero" + where(s));
+      cs.axis.normalize();
+      if (offset && offset.size() == 3)
+        cs.offset = Eigen::Vector3d(offset[0].as<double>(), offset[1].as<double>(), offset[2].as<double>()) *
+                    (offset[0].as<double>() > 1.0 ? 1e-3 : 1.0);
+      sym.continuous.push_back(cs);
+    }
+  }
+  return sym;
+}
+
+std::string findInOverride(const fs::path& dir, const std::string& cls, const std::string& configured) {
+  const std::string file = fs::path(configured).filename().string();
+  std::vector<fs::path> candidates{dir / file, dir / cls / file};
+  for (const char* ext : {".stl", ".obj", ".ply", ".dae", ".glb", ".gltf"}) {
+    candidates.push_back(dir / cls / (cls + ext));
+    candidates.push_back(dir / (cls + ext));
+  }
+  for (const auto& c : candidates)
+    if (fs::is_regular_file(c)) return c.string();
+  if (fs::is_directory(dir / cls))
+    for (const auto& e : fs::directory_iterator(dir / cls))
+      if (e.path().extension() == ".stl" && e.path().string().find("simplified") == std::string::npos)
+        return e.path().string();
+  throw CatalogError("object catalog: no mesh for class '" + cls + "' in " + dir.string());
+}
+
+}  // namespace
+
+ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string& mesh_dir_override) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(yaml_path);
+  } catch (const YAML::Exception& e) {
+    throw CatalogError("object catalog '" + yaml_path + "': " + e.what());
+  }
+  const fs::path yaml_dir = fs::path(yaml_path).parent_path();
+  std::string mesh_dir = yaml_dir.string();
+  if (root["mesh_dir"]) mesh_dir = resolveResourcePath(root["mesh_dir"].as<std::string>(), yaml_dir.string());
+  const auto objects = root["objects"];
+  if (!objects || !objects.IsMap())
+    throw CatalogError("object catalog '" + yaml_path + "': needs a map 'objects: {class: {mesh: ...}}'");
+  ObjectCatalog catalog;
+  for (const auto& kv : objects) {
+    const std::string cls = kv.first.as<std::string>();
+    const YAML::Node& o = kv.second;
+    const std::string ctx = "object catalog '" + yaml_path + "', class '" + cls + "'";
+    if (!o["mesh"]) throw CatalogError(ctx + ": missing 'mesh'" + where(o));
+    const std::string configured = o["mesh"].as<std::string>();
+    ObjectClass obj;
+    obj.name = cls;
+    obj.symmetry = parseSymmetry(o, ctx);
+    if (mesh_dir_override.empty()) {
+      obj.mesh_path = resolveResourcePath(configured, mesh_dir);
+    } else {
+      obj.mesh_path = findInOverride(mesh_dir_override, cls, configured);
+      const fs::path info = fs::path(mesh_dir_override) / cls / "model_info.json";
+      if (fs::exists(info)) obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
+    }
+    MeshLoadOptions opts;
+    opts.scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
+    opts.max_extent_m = 5.0f;  // a tracked object larger than 5 m is a unit mistake
+    try {
+      auto mesh = std::make_shared<TriangleMesh>(loadMesh(obj.mesh_path, opts));
+      obj.box = mesh->boundingBox();
+      obj.diameter = mesh->diameter();
+      obj.mesh = std::move(mesh);
+    } catch (const MeshError& e) {
+      throw CatalogError(ctx + ": " + e.what());
+    }
+    catalog.add(std::move(obj));
+  }
+  return catalog;
+}
+
+}  // namespace sgt

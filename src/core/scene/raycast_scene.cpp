@@ -1,0 +1,278 @@
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace sgt {
+namespace {
+
+RTCBuildQuality quality(int q) {
+  return q <= 0 ? RTC_BUILD_QUALITY_LOW : q == 1 ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+}
+
+void checkDevice(RTCDevice device, const char* what) {
+  const RTCError err = rtcGetDeviceError(device);
+  if (err != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(err) + " in " + what);
+}
+
+}  // namespace
+
+void RayHits::resize(int w, int h) {
+  width = w;
+  height = h;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  if (range.size() == n) return;
+  range.assign(n, std::numeric_limits<float>::infinity());
+  point.assign(n, Eigen::Vector3f::Zero());
+  normal.assign(n, Eigen::Vector3f::Zero());
+  node.assign(n, kNoNode);
+  primitive.assign(n, 0);
+}
+
+// ------------------------------------------------------------------------------------ TileSet
+TileSet::TileSet(const SensorRays& rays) {
+  if (rays.height >= 4) {
+    tile_w_ = 4, tile_h_ = 4;
+  } else {
+    tile_w_ = 16, tile_h_ = 1;
+  }
+  tiles_x_ = (rays.width + tile_w_ - 1) / tile_w_;
+}
+
+TileSet TileSet::all(const SensorRays& rays) {
+  TileSet set(rays);
+  const int tiles_y = (rays.height + set.tile_h_ - 1) / set.tile_h_;
+  set.tiles_.resize(static_cast<std::size_t>(set.tiles_x_) * tiles_y);
+  for (std::size_t i = 0; i < set.tiles_.size(); ++i) set.tiles_[i] = static_cast<std::int32_t>(i);
+  return set;
+}
+
+TileSet TileSet::covering(const SensorRays& rays, const std::vector<GridRect>& rects) {
+  TileSet set(rays);
+  const int tiles_y = (rays.height + set.tile_h_ - 1) / set.tile_h_;
+  std::vector<char> used(static_cast<std::size_t>(set.tiles_x_) * tiles_y, 0);
+  for (const auto& r : rects) {
+    const int x0 = std::max(0, r.x0), y0 = std::max(0, r.y0);
+    const int x1 = std::min(rays.width, r.x1), y1 = std::min(rays.height, r.y1);
+    if (x0 >= x1 || y0 >= y1) continue;
+    for (int ty = y0 / set.tile_h_; ty <= (y1 - 1) / set.tile_h_; ++ty)
+      for (int tx = x0 / set.tile_w_; tx <= (x1 - 1) / set.tile_w_; ++tx)
+        used[static_cast<std::size_t>(ty) * set.tiles_x_ + tx] = 1;
+  }
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (used[i]) set.tiles_.push_back(static_cast<std::int32_t>(i));
+  return set;
+}
+
+// ------------------------------------------------------------------------------- RaycastScene
+RaycastScene::RaycastScene(const RaycastSceneOptions& options) : options_(options) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("Embree: cannot create a device");
+  top_ = rtcNewScene(device_);
+  rtcSetSceneFlags(top_, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_LOW);
+  rtcCommitScene(top_);
+  checkDevice(device_, "scene creation");
+}
+
+RaycastScene::~RaycastScene() {
+  rtcReleaseScene(top_);
+  for (auto* s : mesh_scenes_) rtcReleaseScene(s);
+  rtcReleaseDevice(device_);
+}
+
+MeshId RaycastScene::addMesh(std::shared_ptr<const TriangleMesh> mesh) {
+  if (!mesh || mesh->empty()) throw std::invalid_argument("RaycastScene::addMesh: empty mesh");
+  RTCScene scene = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(scene, quality(options_.object_build_quality));
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), mesh->vertices.size()));
+  for (std::size_t i = 0; i < mesh->vertices.size(); ++i)
+    for (int c = 0; c < 3; ++c) v[3 * i + c] = mesh->vertices[i][c];
+  auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh->triangles.size()));
+  for (std::size_t i = 0; i < mesh->triangles.size(); ++i)
+    for (int c = 0; c < 3; ++c) idx[3 * i + c] = mesh->triangles[i][c];
+  rtcSetGeometryBuildQuality(geom, quality(options_.object_build_quality));
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  checkDevice(device_, "mesh BVH build");
+  meshes_.push_back(std::move(mesh));
+  mesh_scenes_.push_back(scene);
+  return static_cast<MeshId>(meshes_.size() - 1);
+}
+
+const TriangleMesh& RaycastScene::mesh(MeshId id) const {
+  if (id < 0 || static_cast<std::size_t>(id) >= meshes_.size())
+    throw std::out_of_range("RaycastScene: unknown mesh id " + std::to_string(id));
+  return *meshes_[id];
+}
+
+void RaycastScene::setStaticMap(std::shared_ptr<const TriangleMesh> map, NodeId node) {
+  if (static_map_node_ != kNoNode) removeInstance(static_map_node_);
+  const int saved = options_.object_build_quality;
+  options_.object_build_quality = options_.static_map_build_quality;
+  static_map_mesh_ = addMesh(std::move(map));
+  options_.object_build_quality = saved;
+  static_map_node_ = node;
+  attachInstance(node, static_map_mesh_, Eigen::Isometry3d::Identity());
+}
+
+unsigned RaycastScene::slotFor(NodeId node) const {
+  const auto it = slot_of_node_.find(node);
+  if (it == slot_of_node_.end())
+    throw std::out_of_range("RaycastScene: node " + std::to_string(node) + " has no instance");
+  return it->second;
+}
+
+void RaycastScene::writeTransform(unsigned slot, const Eigen::Isometry3d& T) {
+  if (!T.matrix().allFinite())
+    throw std::invalid_argument("RaycastScene: non-finite pose for node " + std::to_string(slots_[slot].node));
+  RTCGeometry geom = rtcGetGeometry(top_, slot);
+  const Eigen::Matrix<float, 3, 4> m = T.matrix().topRows<3>().cast<float>();  // column-major storage
+  rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
+  rtcCommitGeometry(geom);
+  slots_[slot].T = T;
+  slots_[slot].R = T.linear().cast<float>();
+  dirty_ = true;
+}
+
+unsigned RaycastScene::attachInstance(NodeId node, MeshId mesh_id, const Eigen::Isometry3d& T) {
+  if (node == kNoNode) throw std::invalid_argument("RaycastScene: instance needs a node id");
+  if (slot_of_node_.count(node))
+    throw std::invalid_argument("RaycastScene: node " + std::to_string(node) + " already has an instance");
+  mesh(mesh_id);  // range check
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geom, mesh_scenes_[mesh_id]);
+  rtcSetGeometryTimeStepCount(geom, 1);
+  unsigned slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<unsigned>(slots_.size());
+    slots_.emplace_back();
+  }
+  rtcAttachGeometryByID(top_, geom, slot);  // dense ids keep commits cheap
+  rtcReleaseGeometry(geom);
+  slots_[slot].node = node;
+  slots_[slot].mesh = mesh_id;
+  slots_[slot].used = true;
+  slot_of_node_[node] = slot;
+  writeTransform(slot, T);
+  checkDevice(device_, "instance creation");
+  return slot;
+}
+
+void RaycastScene::addInstance(NodeId node, MeshId mesh_id, const Eigen::Isometry3d& T) {
+  attachInstance(node, mesh_id, T);
+}
+
+void RaycastScene::setInstancePose(NodeId node, const Eigen::Isometry3d& T) { writeTransform(slotFor(node), T); }
+
+void RaycastScene::removeInstance(NodeId node) {
+  const unsigned slot = slotFor(node);
+  rtcDetachGeometry(top_, slot);
+  slots_[slot] = Slot{};
+  free_slots_.push_back(slot);
+  slot_of_node_.erase(node);
+  if (node == static_map_node_) static_map_node_ = kNoNode;
+  dirty_ = true;
+}
+
+void RaycastScene::setInstanceEnabled(NodeId node, bool enabled) {
+  RTCGeometry geom = rtcGetGeometry(top_, slotFor(node));
+  enabled ? rtcEnableGeometry(geom) : rtcDisableGeometry(geom);
+  dirty_ = true;
+}
+
+Eigen::Isometry3d RaycastScene::instancePose(NodeId node) const { return slots_[slotFor(node)].T; }
+MeshId RaycastScene::instanceMesh(NodeId node) const { return slots_[slotFor(node)].mesh; }
+
+void RaycastScene::commit() {
+  rtcCommitScene(top_);
+  checkDevice(device_, "scene commit");
+  dirty_ = false;
+}
+
+void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
+                        const TileSet* tiles) const {
+  if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
+  hits.resize(rays.width, rays.height);
+  if (rays.size() == 0) return;
+  const TileSet all = tiles ? TileSet() : TileSet::all(rays);
+  const TileSet& set = tiles ? *tiles : all;
+  const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
+  const Eigen::Vector3f o = T_world_sensor.translation().cast<float>();
+  const bool per_ray_origin = !rays.origins.empty();
+  const int tw = set.tile_w_, th = set.tile_h_, tiles_x = set.tiles_x_;
+  const Slot* slots = slots_.data();
+  RTCScene scene = top_;
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.tiles_.size(), 16), [&](const auto& block) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) int valid[16];
+    RTCRayHit16 rh;
+    std::size_t index[16];
+    for (std::size_t b = block.begin(); b != block.end(); ++b) {
+      const int t = set.tiles_[b];
+      const int x0 = (t % tiles_x) * tw, y0 = (t / tiles_x) * th;
+      for (int k = 0; k < 16; ++k) {
+        const int x = x0 + k % tw, y = y0 + k / tw;
+        if (x >= rays.width || y >= rays.height) {
+          valid[k] = 0;
+          continue;
+        }
+        valid[k] = -1;
+        const std::size_t i = static_cast<std::size_t>(y) * rays.width + x;
+        index[k] = i;
+        const Eigen::Vector3f d = R * rays.directions[i];
+        const Eigen::Vector3f org = per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o;
+        rh.ray.org_x[k] = org.x(), rh.ray.org_y[k] = org.y(), rh.ray.org_z[k] = org.z();
+        rh.ray.dir_x[k] = d.x(), rh.ray.dir_y[k] = d.y(), rh.ray.dir_z[k] = d.z();
+        rh.ray.tnear[k] = rays.range_min;
+        rh.ray.tfar[k] = rays.range_max;
+        rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = 0xFFFFFFFFu;
+        rh.ray.id[k] = k;
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect16(valid, scene, &context, &rh);
+      for (int k = 0; k < 16; ++k) {
+        if (!valid[k]) continue;
+        const std::size_t i = index[k];
+        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+          hits.range[i] = std::numeric_limits<float>::infinity();
+          hits.node[i] = kNoNode;
+          continue;
+        }
+        const float r = rh.ray.tfar[k];
+        const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+        const Slot& s = slots[rh.hit.instID[0][k]];
+        Eigen::Vector3f n = s.R * Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+        n.normalize();
+        if (n.dot(d) > 0.0f) n = -n;
+        hits.range[i] = r;
+        hits.point[i] = Eigen::Vector3f(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]) + r * d;
+        hits.normal[i] = n;
+        hits.node[i] = s.node;
+        hits.primitive[i] = rh.hit.primID[k];
+      }
+    }
+  });
+}
+
+}  // namespace sgt

@@ -1,0 +1,59 @@
+#include "scene_graph_tracker/sensors/sensor_models.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace sgt {
+
+SensorRays makeRays(const PinholeModel& m) {
+  if (m.width <= 0 || m.height <= 0 || !(m.fx > 0) || !(m.fy > 0))
+    throw std::invalid_argument("pinhole model needs positive width, height, fx, fy (got " +
+                                std::to_string(m.width) + "x" + std::to_string(m.height) + ", fx " +
+                                std::to_string(m.fx) + ", fy " + std::to_string(m.fy) + ")");
+  SensorRays rays;
+  rays.width = m.width;
+  rays.height = m.height;
+  rays.range_min = m.range_min;
+  rays.range_max = m.range_max;
+  rays.directions.resize(static_cast<std::size_t>(m.width) * m.height);
+  for (int v = 0; v < m.height; ++v)
+    for (int u = 0; u < m.width; ++u) rays.directions[rays.index(u, v)] = m.direction(u, v);
+  return rays;
+}
+
+SensorRays makeRays(const SpinningLidarModel& m) {
+  if (m.columns <= 0 || m.rings <= 0)
+    throw std::invalid_argument("LiDAR model needs positive columns and rings (got " +
+                                std::to_string(m.columns) + " x " + std::to_string(m.rings) + ")");
+  SensorRays rays;
+  rays.width = m.columns;
+  rays.height = m.rings;
+  rays.range_min = m.range_min;
+  rays.range_max = m.range_max;
+  rays.directions.resize(static_cast<std::size_t>(m.columns) * m.rings);
+  for (int r = 0; r < m.rings; ++r)
+    for (int c = 0; c < m.columns; ++c) rays.directions[rays.index(c, r)] = m.direction(c, r);
+  return rays;
+}
+
+SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::Vector3f> origins,
+                    float range_min, float range_max) {
+  if (!origins.empty() && origins.size() != directions.size())
+    throw std::invalid_argument("ray set: " + std::to_string(origins.size()) + " origins for " +
+                                std::to_string(directions.size()) + " directions");
+  for (auto& d : directions) {
+    const float n = d.norm();
+    if (!(n > 0.0f) || !std::isfinite(n)) throw std::invalid_argument("ray set: a direction is zero or not finite");
+    d /= n;
+  }
+  SensorRays rays;
+  rays.width = static_cast<int>(directions.size());
+  rays.height = directions.empty() ? 0 : 1;
+  rays.directions = std::move(directions);
+  rays.origins = std::move(origins);
+  rays.range_min = range_min;
+  rays.range_max = range_max;
+  return rays;
+}
+
+}  // namespace sgt

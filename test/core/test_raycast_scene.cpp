@@ -1,0 +1,161 @@
+// Ray casting on Embree: analytic hits on boxes and spheres, world normals of rotated
+// instances, shared meshes, moving / removing / disabling instances, tiles.
+#include <gtest/gtest.h>
+
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+
+namespace sgt {
+namespace {
+
+Eigen::Isometry3d at(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = t;
+  return T;
+}
+
+// One ray from the origin along `dir` (world frame).
+RayHits castOne(const RaycastScene& scene, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) {
+  const SensorRays rays = makeRays({dir});
+  RayHits hits;
+  scene.cast(rays, at(origin.cast<double>()), hits);
+  return hits;
+}
+
+TEST(RaycastScene, BoxRangeAndNormal) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.4f, 0.6f})));
+  scene.addInstance(7, box, at({2, 0, 0}));
+  scene.commit();
+  const RayHits h = castOne(scene, {0, 0, 0}, {1, 0, 0});
+  ASSERT_EQ(h.node[0], 7);
+  EXPECT_NEAR(h.range[0], 1.9f, 1e-5f);
+  EXPECT_TRUE(h.point[0].isApprox(Eigen::Vector3f(1.9f, 0, 0), 1e-5f));
+  EXPECT_TRUE(h.normal[0].isApprox(Eigen::Vector3f(-1, 0, 0), 1e-5f));
+  const RayHits miss = castOne(scene, {0, 0, 0}, {0, 1, 0});
+  EXPECT_EQ(miss.node[0], kNoNode);
+  EXPECT_TRUE(std::isinf(miss.range[0]));
+}
+
+TEST(RaycastScene, SphereRangeAndNormalMatchAnalytic) {
+  RaycastScene scene;
+  const float radius = 0.5f;
+  const MeshId sphere = scene.addMesh(std::make_shared<TriangleMesh>(makeSphere(radius, 256, 128)));
+  const Eigen::Vector3f c(3, 1, 0.5f);
+  scene.addInstance(3, sphere, at(c.cast<double>()));
+  scene.commit();
+  for (float off : {0.0f, 0.2f, 0.4f}) {
+    const Eigen::Vector3f o(0, 1 + off, 0.5f);
+    const RayHits h = castOne(scene, o, {1, 0, 0});
+    ASSERT_EQ(h.node[0], 3);
+    const float expected = c.x() - std::sqrt(radius * radius - off * off);
+    // The tessellation (256 x 128) lies inside the sphere by at most r(1 - cos(pi/128)) = 0.15 mm.
+    EXPECT_NEAR(h.range[0], expected, 6e-4f) << off;
+    const Eigen::Vector3f n_true = (h.point[0] - c).normalized();
+    EXPECT_GT(h.normal[0].dot(n_true), std::cos(2.0 * M_PI / 128)) << off;
+  }
+}
+
+TEST(RaycastScene, RotatedInstanceGivesWorldNormals) {
+  // Embree's Ng is in object space: the scene must rotate it into the world.
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.2f, 0.2f})));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  scene.addInstance(1, box, at({2, 0, 0}, R));
+  scene.commit();
+  // Hit the face whose object normal is +y... look from the side along the face normal.
+  const Eigen::Vector3f n_face = (R * Eigen::Vector3d(-1, 0, 0)).cast<float>();  // world normal of the -x face
+  const Eigen::Vector3f origin = Eigen::Vector3f(2, 0, 0) + 1.0f * n_face;
+  const RayHits h = castOne(scene, origin, -n_face);
+  ASSERT_EQ(h.node[0], 1);
+  EXPECT_NEAR(h.range[0], 0.9f, 1e-5f);
+  EXPECT_TRUE(h.normal[0].isApprox(n_face, 1e-5f)) << h.normal[0].transpose();
+  EXPECT_NEAR(h.normal[0].norm(), 1.0f, 1e-6f);
+}
+
+TEST(RaycastScene, ManyInstancesShareOneMesh) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.1f, 0.1f, 0.1f})));
+  for (int i = 0; i < 100; ++i) scene.addInstance(100 + i, box, at({1.0 + i, 0, 0}));
+  scene.commit();
+  EXPECT_EQ(scene.meshCount(), 1u);
+  EXPECT_EQ(scene.instanceCount(), 100u);
+  // A row of rays along y at x = 1 + 5 hits only instance 105.
+  const RayHits h = castOne(scene, {6, -2, 0}, {0, 1, 0});
+  EXPECT_EQ(h.node[0], 105);
+  EXPECT_NEAR(h.range[0], 1.95f, 1e-5f);
+}
+
+TEST(RaycastScene, MovingRemovingAndDisablingInstances) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.2f, 0.2f})));
+  scene.addInstance(1, box, at({2, 0, 0}));
+  scene.addInstance(2, box, at({4, 0, 0}));
+  scene.commit();
+  EXPECT_EQ(castOne(scene, {0, 0, 0}, {1, 0, 0}).node[0], 1);
+
+  scene.setInstancePose(1, at({2, 5, 0}));
+  EXPECT_THROW(castOne(scene, {0, 0, 0}, {1, 0, 0}), std::logic_error);  // not committed
+  scene.commit();
+  RayHits h = castOne(scene, {0, 0, 0}, {1, 0, 0});
+  EXPECT_EQ(h.node[0], 2);
+  EXPECT_NEAR(h.range[0], 3.9f, 1e-5f);
+  EXPECT_TRUE(scene.instancePose(1).translation().isApprox(Eigen::Vector3d(2, 5, 0)));
+
+  scene.setInstanceEnabled(2, false);
+  scene.commit();
+  EXPECT_EQ(castOne(scene, {0, 0, 0}, {1, 0, 0}).node[0], kNoNode);
+  scene.setInstanceEnabled(2, true);
+  scene.removeInstance(1);
+  scene.commit();
+  EXPECT_FALSE(scene.hasInstance(1));
+  EXPECT_THROW(scene.setInstancePose(1, at({0, 0, 0})), std::out_of_range);
+  // The freed slot is reused by the next instance.
+  scene.addInstance(9, box, at({1, 0, 0}));
+  scene.commit();
+  EXPECT_EQ(castOne(scene, {0, 0, 0}, {1, 0, 0}).node[0], 9);
+  EXPECT_THROW(scene.addInstance(9, box, at({1, 0, 0})), std::invalid_argument);
+  Eigen::Isometry3d bad = at({0, 0, 0});
+  bad.translation().x() = std::nan("");
+  EXPECT_THROW(scene.setInstancePose(9, bad), std::invalid_argument);
+}
+
+TEST(RaycastScene, StaticMapAndObjectsTogether) {
+  RaycastScene scene;
+  scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), 1);  // floor slab
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.2f, 0.2f})));
+  scene.addInstance(5, box, at({0, 0, 0.15}));
+  scene.commit();
+  EXPECT_EQ(castOne(scene, {0, 0, 2}, {0, 0, -1}).node[0], 5);
+  const RayHits h = castOne(scene, {1, 0, 2}, {0, 0, -1});
+  EXPECT_EQ(h.node[0], 1);
+  EXPECT_NEAR(h.range[0], 1.95f, 1e-5f);
+  EXPECT_TRUE(h.normal[0].isApprox(Eigen::Vector3f::UnitZ(), 1e-6f));
+  EXPECT_EQ(scene.staticMapNode(), 1);
+}
+
+TEST(RaycastScene, TilesCoverExactlyTheRequestedRegion) {
+  RaycastScene scene;
+  scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), 1);
+  scene.commit();
+  PinholeModel cam;
+  cam.width = 64, cam.height = 48, cam.fx = cam.fy = 50, cam.cx = 31.5, cam.cy = 23.5;
+  const SensorRays rays = makeRays(cam);
+  const TileSet tiles = TileSet::covering(rays, {{10, 10, 13, 11}, {60, 40, 70, 50}});
+  // {10..13}x{10} lies in tiles x 2..3, y 2: two tiles; {60..64}x{40..48}: tiles x 15, y 10..11.
+  EXPECT_EQ(tiles.tiles().size(), 4u);
+  RayHits hits;
+  const Eigen::Isometry3d T = at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  scene.cast(rays, T, hits, &tiles);
+  std::size_t visited = 0;
+  tiles.forEachRay(rays, [&](std::size_t i) {
+    ++visited;
+    EXPECT_EQ(hits.node[i], 1);
+  });
+  EXPECT_EQ(visited, 64u);
+  EXPECT_EQ(hits.node[0], kNoNode);  // outside the tiles: untouched
+}
+
+}  // namespace
+}  // namespace sgt
