@@ -24,15 +24,15 @@ struct BuildingOptions {
   // otherwise replaced by the edge length that lands the triangle count on the target.
   float tile_size = 0.25f;
   std::size_t target_triangles = 411698;  // the paper's static map
-  std::uint32_t seed = 7;  // furniture and door placement
+  std::uint32_t seed = 7;                 // furniture and door placement
   bool furniture = true;
 };
 
 struct Building {
   TriangleMesh mesh;
-  Eigen::Vector3f workbench_top_centre;  // top surface of the workbench in room 0
-  Eigen::Vector2f workbench_size;        // x, y extent of its top
-  Eigen::Vector3f robot_start;           // free floor point (z = 0) ~2 m in front (+y) of it
+  Eigen::Vector3f workbench_top_centre;    // top surface of the workbench in room 0
+  Eigen::Vector2f workbench_size;          // x, y extent of its top
+  Eigen::Vector3f robot_start;             // free floor point (z = 0) ~2 m in front (+y) of it
   std::vector<Eigen::AlignedBox3f> rooms;  // free interiors, index ix + rooms_x * iy
   float tile_size = 0.0f;                  // quad edge length actually used
 };

@@ -84,8 +84,7 @@ void splitAllInFour(TriangleMesh& mesh) {
   midpoints.reserve(mesh.triangles.size() * 2);
   auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
     const auto it = midpoints.emplace(edgeKey(a, b), 0u);
-    if (it.second)
-      it.first->second = addVertex(mesh, 0.5f * (mesh.vertices[a] + mesh.vertices[b]));
+    if (it.second) it.first->second = addVertex(mesh, 0.5f * (mesh.vertices[a] + mesh.vertices[b]));
     return it.first->second;
   };
   std::vector<Triangle> out;
@@ -130,8 +129,9 @@ void bisectLargest(TriangleMesh& mesh, std::size_t target) {
     const Triangle t = mesh.triangles[i];
     const std::uint32_t a = t[longest_edge[i]], b = t[(longest_edge[i] + 1) % 3];
     const std::uint64_t key = edgeKey(a, b);
-    const auto range = std::equal_range(edges.begin(), edges.end(), std::make_pair(key, 0u),
-                                        [](const auto& x, const auto& y) { return x.first < y.first; });
+    const auto range =
+        std::equal_range(edges.begin(), edges.end(), std::make_pair(key, 0u),
+                         [](const auto& x, const auto& y) { return x.first < y.first; });
     bool free = true;
     for (auto it = range.first; it != range.second; ++it) free = free && !touched[it->second];
     if (!free) continue;
@@ -205,7 +205,8 @@ TriangleMesh makeSphere(float radius, int segments, int rings) {
   std::vector<std::uint32_t> ring_start;
   for (int k = 1; k < rings; ++k) {
     const float polar = 0.5f * kTwoPi * static_cast<float>(k) / static_cast<float>(rings);
-    ring_start.push_back(addRing(mesh, radius * std::sin(polar), radius * std::cos(polar), segments));
+    ring_start.push_back(
+        addRing(mesh, radius * std::sin(polar), radius * std::cos(polar), segments));
   }
   for (std::size_t k = 0; k + 1 < ring_start.size(); ++k)
     bridgeRings(mesh, ring_start[k + 1], ring_start[k], segments);

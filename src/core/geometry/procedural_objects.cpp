@@ -10,7 +10,8 @@ namespace {
 
 using Eigen::Vector3f;
 
-Eigen::Isometry3f at(const Vector3f& centre, const Eigen::Matrix3f& R = Eigen::Matrix3f::Identity()) {
+Eigen::Isometry3f at(const Vector3f& centre,
+                     const Eigen::Matrix3f& R = Eigen::Matrix3f::Identity()) {
   Eigen::Isometry3f T = Eigen::Isometry3f::Identity();
   T.linear() = R;
   T.translation() = centre;
@@ -37,8 +38,10 @@ TriangleMesh multimeter() {
   box(m, {0.060f, 0.065f, 0.003f}, {0.050f, 0, 0.0315f}, 2);
   m.append(makeCylinder(0.022f, 0.008f, 48), at({-0.015f, 0, 0.034f}));
   box(m, {0.036f, 0.005f, 0.004f}, {-0.015f, 0, 0.040f}, 1, rotZ(30.0f));
-  for (float y : {-0.022f, 0.022f}) m.append(makeCylinder(0.0045f, 0.005f, 24), at({-0.067f, y, 0.0325f}));
-  for (float y : {-0.027f, -0.009f, 0.009f, 0.027f}) box(m, {0.008f, 0.012f, 0.002f}, {0.012f, y, 0.031f});
+  for (float y : {-0.022f, 0.022f})
+    m.append(makeCylinder(0.0045f, 0.005f, 24), at({-0.067f, y, 0.0325f}));
+  for (float y : {-0.027f, -0.009f, 0.009f, 0.027f})
+    box(m, {0.008f, 0.012f, 0.002f}, {0.012f, y, 0.031f});
   return m;
 }
 
@@ -75,8 +78,8 @@ TriangleMesh klt() {
 // Plug-in relay: pins below, body, and an off-centre cap on top.
 TriangleMesh relay() {
   TriangleMesh m;
-  const float pins[5][2] = {{-0.017f, -0.013f}, {-0.017f, 0.013f}, {0.017f, -0.013f},
-                            {0.017f, 0.013f},   {0.004f, 0.0f}};
+  const float pins[5][2] = {
+      {-0.017f, -0.013f}, {-0.017f, 0.013f}, {0.017f, -0.013f}, {0.017f, 0.013f}, {0.004f, 0.0f}};
   for (const auto& p : pins) box(m, {0.0015f, 0.006f, 0.008f}, {p[0], p[1], 0.004f});
   box(m, {0.058f, 0.045f, 0.082f}, {0, 0, 0.049f}, 3);
   box(m, {0.034f, 0.030f, 0.014f}, {0.008f, 0, 0.097f}, 2);
