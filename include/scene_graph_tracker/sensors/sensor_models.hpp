@@ -5,7 +5,7 @@
 // pose. Keeping the grid shape lets the scene cast coherent 4x4 tiles.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
 #include <vector>

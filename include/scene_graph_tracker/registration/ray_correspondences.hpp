@@ -1,0 +1,73 @@
+// Ray-cast correspondences (RMCL style), shared by object refinement and localization: each
+// valid measurement is paired with the surface point its own ray hits in the scene, when the hit
+// belongs to a group of interest and lies within a distance threshold. Plus the iterated
+// Umeyama solve over a fixed set of pairs.
+#pragma once
+
+#include <vector>
+
+#include "scene_graph_tracker/registration/umeyama.hpp"
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+#include "scene_graph_tracker/sensors/range_measurements.hpp"
+
+namespace sgt {
+
+struct RayPair {
+  Eigen::Vector3f measured;  // world frame, from the sensor pose the rays were cast from
+  Eigen::Vector3f model;     // world hit point
+  Eigen::Vector3f normal;    // world, unit
+  std::uint32_t ray;         // index into the measurement set
+};
+
+// Maps scene-graph node ids to groups (e.g. object index, or 0 for "the static map").
+class NodeGroups {
+ public:
+  void set(NodeId node, int group);
+  int operator()(NodeId node) const {
+    return node >= 0 && static_cast<std::size_t>(node) < group_.size() ? group_[node] : -1;
+  }
+  int groupCount() const { return groups_; }
+
+ private:
+  std::vector<int> group_;
+  int groups_ = 0;
+};
+
+struct PairingStats {
+  std::vector<int> expected;  // per group: valid measurements whose ray hits the group
+};
+
+// Casts `tiles` of `m` and returns the accepted pairs per group (|hit range - measured| <
+// max_dist). `hits` is scratch space reused between calls.
+std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, const RangeMeasurements& m,
+                                                  const TileSet& tiles, const NodeGroups& groups, float max_dist,
+                                                  RayHits& hits, PairingStats* stats = nullptr);
+
+enum class NormalSide { kMoving, kFixed };
+
+// How each inner step solves for the update over the fixed pairs:
+// - kUmeyamaPointToPoint: Umeyama on the pairs (RMCL "P2P"); with ray-cast pairs both points
+//   lie on one ray, so this only corrects along the rays and converges poorly sideways.
+// - kUmeyamaPointToPlane: Umeyama between each moving point and the foot of its partner on the
+//   tangent plane (RMCL "P2L"); a fixed-point iteration that needs many steps when only a few
+//   faces constrain a direction.
+// - kLinearPointToPlane: the point-to-plane least-squares step (6x6 normal equations, also
+//   mergeable sums), converging in a few steps; the package's default.
+enum class StepSolver { kUmeyamaPointToPoint, kUmeyamaPointToPlane, kLinearPointToPlane };
+
+struct IterativeAlignment {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // moves `moving` onto `fixed`
+  AlignmentStatus status = AlignmentStatus::kTooFewPoints;
+  int steps = 0;
+  PairMoments last;  // of the last step's pairs
+};
+
+// Up to `steps` steps over fixed pairs; the moving side follows the running estimate.
+// Point-to-plane uses the tangent plane of whichever side carries the normals. Stops early when
+// an update is below `tolerance`, or when the set is degenerate (too few, collinear or planar
+// points: the estimate reached so far is kept).
+IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
+                              const std::vector<Eigen::Vector3f>& normals, NormalSide normal_side, StepSolver solver,
+                              int steps, double tolerance, const AlignmentOptions& options);
+
+}  // namespace sgt

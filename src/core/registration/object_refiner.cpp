@@ -1,0 +1,146 @@
+#include "scene_graph_tracker/registration/object_refiner.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "scene_graph_tracker/registration/ray_correspondences.hpp"
+#include "scene_graph_tracker/registration/ray_regions.hpp"
+
+namespace sgt {
+
+const char* toString(RefineStatus s) {
+  switch (s) {
+    case RefineStatus::kOk: return "ok";
+    case RefineStatus::kNotVisible: return "not visible";
+    case RefineStatus::kTooFewPoints: return "too few points";
+    case RefineStatus::kDegenerate: return "degenerate (planar or collinear points)";
+    case RefineStatus::kFalseHypothesis: return "false hypothesis (few inliers)";
+  }
+  return "?";
+}
+
+namespace {
+
+// Removes the rotation about each continuous symmetry axis (object frame) from the step
+// T_start -> T_new, so refinement never spins an object about an axis it cannot observe.
+Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start, const Eigen::Isometry3d& T_new,
+                                        const Symmetry* symmetry) {
+  if (!symmetry || symmetry->continuous.empty()) return T_new;
+  Eigen::Isometry3d rel = T_start.inverse() * T_new;
+  for (const auto& c : symmetry->continuous) {
+    const Eigen::Quaterniond q(rel.linear());
+    const Eigen::Vector3d proj = c.axis * c.axis.dot(q.vec());
+    Eigen::Quaterniond twist(q.w(), proj.x(), proj.y(), proj.z());
+    if (twist.norm() < 1e-12) continue;
+    twist.normalize();
+    Eigen::Isometry3d untwist = Eigen::Isometry3d::Identity();
+    untwist.translate(c.offset);
+    untwist.rotate(twist.inverse());
+    untwist.translate(-c.offset);
+    rel = rel * untwist;
+  }
+  return T_start * rel;
+}
+
+float thresholdOfRound(const RefinerOptions& o, int round) {
+  if (o.rounds <= 1) return o.max_dist_last;
+  const float f = static_cast<float>(round) / static_cast<float>(o.rounds - 1);
+  return o.max_dist_first * std::pow(o.max_dist_last / o.max_dist_first, f);
+}
+
+}  // namespace
+
+RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<RefineTarget>& targets,
+                                   const std::vector<RangeMeasurements>& measurements) const {
+  const int n_obj = static_cast<int>(targets.size());
+  RefineResult result;
+  result.assignment.resize(measurements.size());
+  for (std::size_t s = 0; s < measurements.size(); ++s) result.assignment[s].assign(measurements[s].size(), kNoNode);
+  NodeGroups groups;
+  std::vector<ObjectExtent> extents(n_obj);
+  for (int k = 0; k < n_obj; ++k) {
+    groups.set(targets[k].node, k);
+    extents[k].box = scene.mesh(scene.instanceMesh(targets[k].node)).boundingBox();
+    extents[k].T_world_object = scene.instancePose(targets[k].node);
+    result.objects.push_back({targets[k].node, extents[k].T_world_object, {}});
+  }
+  if (n_obj == 0) return result;
+
+  std::vector<char> degenerate(n_obj, 0);
+  std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
+  std::vector<int> expected(n_obj, 0);
+  RayHits hits;
+  for (int round = 0; round < options_.rounds; ++round) {
+    const float max_dist = thresholdOfRound(options_, round);
+    // 1. Correspondences from every sensor, cast from the current estimates.
+    std::vector<std::vector<RayPair>> pairs(n_obj);
+    std::fill(expected.begin(), expected.end(), 0);
+    for (std::size_t s = 0; s < measurements.size(); ++s) {
+      const RangeMeasurements& m = measurements[s];
+      const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, extents, options_.roi_margin));
+      result.rays_cast += tiles.rayCount();
+      PairingStats stats;
+      last_pairs[s] = collectRayPairs(scene, m, tiles, groups, max_dist, hits, &stats);
+      for (int k = 0; k < n_obj; ++k) {
+        pairs[k].insert(pairs[k].end(), last_pairs[s][k].begin(), last_pairs[s][k].end());
+        expected[k] += stats.expected[k];
+      }
+    }
+    // 2. Per object, Umeyama steps over the round's pairs in the object's round-start frame.
+    tbb::parallel_for(0, n_obj, [&](int k) {
+      ObjectQuality& q = result.objects[k].quality;
+      if (degenerate[k]) return;
+      const Eigen::Isometry3d T0 = extents[k].T_world_object;
+      const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
+      std::vector<Eigen::Vector3f> model, measured, normals;
+      model.reserve(pairs[k].size()), measured.reserve(pairs[k].size()), normals.reserve(pairs[k].size());
+      for (const RayPair& p : pairs[k]) {
+        model.push_back(T0_inv * p.model);
+        measured.push_back(T0_inv * p.measured);
+        normals.push_back(T0_inv.linear() * p.normal);
+      }
+      const IterativeAlignment a = alignPairs(model, measured, normals, NormalSide::kMoving, options_.solver, options_.steps,
+                                              options_.step_tolerance, options_.alignment);
+      q.last_alignment = a.status;
+      if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar) degenerate[k] = 1;
+      if (a.steps > 0) extents[k].T_world_object = withoutSymmetricTwist(T0, T0 * a.T, targets[k].symmetry);
+    });
+    for (int k = 0; k < n_obj; ++k) scene.setInstancePose(targets[k].node, extents[k].T_world_object);
+    scene.commit();
+  }
+
+  // Quality and assignment from the last round's pairs (cast at the pose before its update).
+  const float last_dist = thresholdOfRound(options_, options_.rounds - 1);
+  for (int k = 0; k < n_obj; ++k) {
+    ObjectEstimate& e = result.objects[k];
+    e.T_world_object = extents[k].T_world_object;
+    ObjectQuality& q = e.quality;
+    double sq = 0.0;
+    for (std::size_t s = 0; s < measurements.size(); ++s)
+      for (const RayPair& p : last_pairs[s][k]) {
+        const double r = (p.model - p.measured).norm();
+        if (r >= last_dist) continue;
+        ++q.inliers;
+        sq += r * r;
+        result.assignment[s][p.ray] = targets[k].node;
+      }
+    q.expected = expected[k];
+    q.inlier_ratio = q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
+    q.rmse = q.inliers > 0 ? std::sqrt(sq / q.inliers) : 0.0;
+    if (q.expected == 0)
+      q.status = RefineStatus::kNotVisible;
+    else if (q.inliers < options_.alignment.min_points)
+      q.status = q.inlier_ratio < options_.min_inlier_ratio ? RefineStatus::kFalseHypothesis
+                                                            : RefineStatus::kTooFewPoints;
+    else if (degenerate[k])
+      q.status = RefineStatus::kDegenerate;
+    else if (q.inlier_ratio < options_.min_inlier_ratio)
+      q.status = RefineStatus::kFalseHypothesis;
+    else
+      q.status = RefineStatus::kOk;
+  }
+  return result;
+}
+
+}  // namespace sgt

@@ -1,0 +1,141 @@
+#include "scene_graph_tracker/registration/ray_correspondences.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+namespace sgt {
+
+void NodeGroups::set(NodeId node, int group) {
+  if (node < 0) return;
+  if (static_cast<std::size_t>(node) >= group_.size()) group_.resize(node + 1, -1);
+  group_[node] = group;
+  groups_ = std::max(groups_, group + 1);
+}
+
+std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, const RangeMeasurements& m,
+                                                  const TileSet& tiles, const NodeGroups& groups, float max_dist,
+                                                  RayHits& hits, PairingStats* stats) {
+  const int n_groups = groups.groupCount();
+  std::vector<std::vector<RayPair>> out(n_groups);
+  if (stats) stats->expected.assign(n_groups, 0);
+  if (tiles.tiles().empty() || n_groups == 0) return out;
+  scene.cast(*m.rays, m.T_world_sensor, hits, &tiles);
+
+  struct Local {
+    std::vector<std::vector<RayPair>> pairs;
+    std::vector<int> expected;
+  };
+  tbb::enumerable_thread_specific<Local> locals([&] { return Local{std::vector<std::vector<RayPair>>(n_groups),
+                                                                   std::vector<int>(n_groups, 0)}; });
+  const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
+  const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
+  const SensorRays& rays = *m.rays;
+  const auto& tile_ids = tiles.tiles();
+  const int tw = tiles.tileWidth(), th = tiles.tileHeight(), tiles_x = (rays.width + tw - 1) / tw;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_ids.size(), 32), [&](const auto& block) {
+    Local& local = locals.local();
+    for (std::size_t b = block.begin(); b != block.end(); ++b) {
+      const int t = tile_ids[b];
+      const int x0 = (t % tiles_x) * tw, y0 = (t / tiles_x) * th;
+      const int x1 = std::min(x0 + tw, rays.width), y1 = std::min(y0 + th, rays.height);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * rays.width + x;
+          const int g = groups(hits.node[i]);
+          if (g < 0 || !m.valid(i)) continue;
+          ++local.expected[g];
+          if (std::abs(hits.range[i] - m.range[i]) >= max_dist) continue;
+          const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
+          local.pairs[g].push_back(
+              {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
+        }
+    }
+  });
+  for (Local& local : locals)
+    for (int g = 0; g < n_groups; ++g) {
+      out[g].insert(out[g].end(), local.pairs[g].begin(), local.pairs[g].end());
+      if (stats) stats->expected[g] += local.expected[g];
+    }
+  return out;
+}
+
+namespace {
+
+// One point-to-plane least-squares step: residual n.(p - q), Jacobian [q x n, n] when the normal
+// turns with the moving side, [p x n, n] when it belongs to the fixed side.
+bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
+                            const std::vector<Eigen::Vector3f>& normals, NormalSide side, const Eigen::Matrix3f& R,
+                            const Eigen::Vector3f& t, Eigen::Matrix3d& dR, Eigen::Vector3d& dt) {
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    const Eigen::Vector3f p = R * moving[i] + t;
+    const Eigen::Vector3f n = side == NormalSide::kMoving ? Eigen::Vector3f(R * normals[i]) : normals[i];
+    const Eigen::Vector3f lever = side == NormalSide::kMoving ? fixed[i] : p;
+    Eigen::Matrix<double, 6, 1> J;
+    J << lever.cross(n).cast<double>(), n.cast<double>();
+    const double r = n.dot(p - fixed[i]);
+    H.selfadjointView<Eigen::Upper>().rankUpdate(J);
+    g += J * r;
+  }
+  H = H.selfadjointView<Eigen::Upper>();
+  H.diagonal().array() += 1e-9 + 1e-6 * H.trace() / 6.0;  // keeps unobservable directions still
+  const Eigen::Matrix<double, 6, 1> x = H.ldlt().solve(-g);
+  if (!x.allFinite()) return false;
+  const Eigen::Vector3d w = x.head<3>();
+  dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  dt = x.tail<3>();
+  return true;
+}
+
+}  // namespace
+
+IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
+                              const std::vector<Eigen::Vector3f>& normals, NormalSide side, StepSolver solver,
+                              int steps, double tolerance, const AlignmentOptions& options) {
+  IterativeAlignment out;
+  const std::size_t n = moving.size();
+  Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f t = Eigen::Vector3f::Zero();
+  for (int s = 0; s < steps; ++s) {
+    PairMoments mom;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3f p = R * moving[i] + t;
+      const Eigen::Vector3f& q = fixed[i];
+      Eigen::Vector3f a = p, b = q;
+      if (solver == StepSolver::kUmeyamaPointToPlane) {
+        if (side == NormalSide::kMoving) {
+          const Eigen::Vector3f nn = R * normals[i];
+          a = q + nn * nn.dot(p - q);  // foot of q on the moving tangent plane
+        } else {
+          const Eigen::Vector3f& nn = normals[i];
+          b = p + nn * nn.dot(q - p);  // foot of p on the fixed tangent plane
+        }
+      }
+      mom.add(a.cast<double>(), b.cast<double>());
+    }
+    out.last = mom;
+    const Alignment step = umeyama(mom, options);  // also the degeneracy check for every solver
+    out.status = step.status;
+    if (!step.ok()) break;
+    Eigen::Matrix3d dRd = step.T.linear();
+    Eigen::Vector3d dtd = step.T.translation();
+    if (solver == StepSolver::kLinearPointToPlane &&
+        !linearPointToPlaneStep(moving, fixed, normals, side, R, t, dRd, dtd))
+      break;
+    const Eigen::Matrix3f dR = dRd.cast<float>();
+    const Eigen::Vector3f dt = dtd.cast<float>();
+    R = dR * R;
+    t = dR * t + dt;
+    out.steps = s + 1;
+    const double moved = dt.norm() + Eigen::AngleAxisf(dR).angle() * 0.1;  // 0.1 m lever
+    if (moved < tolerance) break;
+  }
+  out.T.linear() = R.cast<double>();
+  out.T.translation() = t.cast<double>();
+  // Re-orthonormalise the float accumulation.
+  out.T.linear() = Eigen::Quaterniond(out.T.linear()).normalized().toRotationMatrix();
+  return out;
+}
+
+}  // namespace sgt

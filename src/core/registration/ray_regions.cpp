@@ -1,0 +1,118 @@
+#include "scene_graph_tracker/registration/ray_regions.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sgt {
+namespace {
+
+std::vector<Eigen::Vector3d> cornersInSensor(const ObjectExtent& o, const Eigen::Isometry3d& T_sensor_world,
+                                             float margin) {
+  const Eigen::Vector3f lo = o.box.min() - Eigen::Vector3f::Constant(margin);
+  const Eigen::Vector3f hi = o.box.max() + Eigen::Vector3f::Constant(margin);
+  std::vector<Eigen::Vector3d> out;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+    out.push_back(T_sensor_world * o.T_world_object * p);
+  }
+  return out;
+}
+
+void pinholeRect(const PinholeModel& cam, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+  int behind = 0;
+  double u0 = 1e9, v0 = 1e9, u1 = -1e9, v1 = -1e9;
+  for (const auto& p : corners) {
+    if (p.z() < 0.01) {
+      ++behind;
+      continue;
+    }
+    const auto px = cam.project(p);
+    u0 = std::min(u0, px->x()), u1 = std::max(u1, px->x());
+    v0 = std::min(v0, px->y()), v1 = std::max(v1, px->y());
+  }
+  if (behind == 8) return;
+  if (behind > 0) {  // straddles the image plane: the object may be anywhere in view
+    out.push_back({0, 0, cam.width, cam.height});
+    return;
+  }
+  const auto clampi = [](double v, int hi) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi))); };
+  GridRect r{clampi(std::floor(u0), cam.width), clampi(std::floor(v0), cam.height),
+             clampi(std::ceil(u1) + 1, cam.width), clampi(std::ceil(v1) + 1, cam.height)};
+  if (r.x0 < r.x1 && r.y0 < r.y1) out.push_back(r);
+}
+
+void lidarRects(const SpinningLidarModel& l, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+  // Azimuths relative to the centre's azimuth so the span never wraps inside the computation.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : corners) centre += p / 8.0;
+  const double a_c = std::atan2(centre.y(), centre.x());
+  double da0 = 0, da1 = 0, e0 = 1e9, e1 = -1e9;
+  bool contains_sensor = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    double lo = 1e9, hi = -1e9;
+    for (const auto& p : corners) lo = std::min(lo, p[axis]), hi = std::max(hi, p[axis]);
+    contains_sensor &= lo <= 0.0 && hi >= 0.0;
+  }
+  if (contains_sensor) {
+    out.push_back({0, 0, l.columns, l.rings});
+    return;
+  }
+  for (const auto& p : corners) {
+    const double da = std::remainder(std::atan2(p.y(), p.x()) - a_c, 2.0 * M_PI);
+    da0 = std::min(da0, da), da1 = std::max(da1, da);
+    const double e = std::atan2(p.z(), std::hypot(p.x(), p.y()));
+    e0 = std::min(e0, e), e1 = std::max(e1, e);
+  }
+  const double phi_inc = l.phiInc() > 0 ? l.phiInc() : 1.0;
+  const int r0 = std::max(0, static_cast<int>(std::floor((e0 - l.phi_min) / phi_inc)));
+  const int r1 = std::min(l.rings, static_cast<int>(std::ceil((e1 - l.phi_min) / phi_inc)) + 1);
+  if (r0 >= r1) return;
+  const double c0 = (a_c + da0 - l.theta_min) / l.theta_inc, c1 = (a_c + da1 - l.theta_min) / l.theta_inc;
+  int start = static_cast<int>(std::floor(c0));
+  const int span = static_cast<int>(std::ceil(c1)) + 1 - start;
+  if (span >= l.columns) {
+    out.push_back({0, r0, l.columns, r1});
+    return;
+  }
+  start = ((start % l.columns) + l.columns) % l.columns;
+  out.push_back({start, r0, std::min(start + span, l.columns), r1});
+  if (start + span > l.columns) out.push_back({0, r0, start + span - l.columns, r1});
+}
+
+void sphereRects(const SensorRays& rays, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : corners) c += p / 8.0;
+  double r2 = 0;
+  for (const auto& p : corners) r2 = std::max(r2, (p - c).squaredNorm());
+  const Eigen::Vector3f cf = c.cast<float>();
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Vector3f o = rays.origins.empty() ? Eigen::Vector3f::Zero() : rays.origins[i];
+    const Eigen::Vector3f oc = cf - o;
+    const float along = std::max(0.0f, oc.dot(rays.directions[i]));
+    if ((oc - along * rays.directions[i]).squaredNorm() <= r2) {
+      const int x = static_cast<int>(i % rays.width), y = static_cast<int>(i / rays.width);
+      out.push_back({x, y, x + 1, y + 1});
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<GridRect> raysNearObjects(const RangeMeasurements& m, const std::vector<ObjectExtent>& objects,
+                                      float margin_m) {
+  std::vector<GridRect> rects;
+  const Eigen::Isometry3d T_sensor_world = m.T_world_sensor.inverse();
+  for (const auto& o : objects) {
+    const auto corners = cornersInSensor(o, T_sensor_world, margin_m);
+    if (const auto* cam = std::get_if<PinholeModel>(&m.model)) {
+      pinholeRect(*cam, corners, rects);
+    } else if (const auto* lidar = std::get_if<SpinningLidarModel>(&m.model)) {
+      lidarRects(*lidar, corners, rects);
+    } else {
+      sphereRects(*m.rays, corners, rects);
+    }
+  }
+  return rects;
+}
+
+}  // namespace sgt
