@@ -64,7 +64,7 @@ TEST(RaycastScene, RotatedInstanceGivesWorldNormals) {
   const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   scene.addInstance(1, box, at({2, 0, 0}, R));
   scene.commit();
-  // Hit the face whose object normal is +y... look from the side along the face normal.
+  // Look at the box's -x face straight along its (rotated) world normal.
   const Eigen::Vector3f n_face = (R * Eigen::Vector3d(-1, 0, 0)).cast<float>();  // world normal of the -x face
   const Eigen::Vector3f origin = Eigen::Vector3f(2, 0, 0) + 1.0f * n_face;
   const RayHits h = castOne(scene, origin, -n_face);
