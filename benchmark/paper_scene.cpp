@@ -32,17 +32,6 @@ Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
 
 }  // namespace
 
-Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear().col(0) = x;
-  T.linear().col(1) = z.cross(x);
-  T.linear().col(2) = z;
-  T.translation() = eye;
-  return T;
-}
-
 PaperScene makePaperScene(int extra_instances) {
   static const Building building = makeBuilding();
   PaperScene s;
@@ -82,7 +71,7 @@ PaperScene makePaperScene(int extra_instances) {
   s.scene->commit();
   // Robot 1.1 m in front (+y) of the bench, facing it; the head camera looks at the bench centre.
   s.T_world_base = pose(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
-  s.T_world_camera = lookAt(s.T_world_base * Eigen::Vector3d(0.1, 0.0, 1.25), top);
+  s.T_world_camera = opticalLookAt(s.T_world_base * Eigen::Vector3d(0.1, 0.0, 1.25), top);
   Eigen::Isometry3d T_base_lidar = Eigen::Isometry3d::Identity();
   T_base_lidar.translation() = Eigen::Vector3d(0.0, 0.0, 0.9);
   s.T_world_lidar = s.T_world_base * T_base_lidar;

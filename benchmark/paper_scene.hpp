@@ -36,9 +36,6 @@ struct PaperScene {
 // (out of the camera's view) to measure scaling. Cached per process for the building.
 PaperScene makePaperScene(int extra_instances = 0);
 
-// Optical frame (z forward, x right, y down) at `eye` looking at `target` with the world z up.
-Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
-
 // "real pbr_objects meshes" or "stand-ins" for benchmark labels.
 std::string meshLabel(const PaperScene& s);
 

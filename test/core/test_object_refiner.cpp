@@ -26,16 +26,7 @@ Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
   return T;
 }
 
-Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() << x, z.cross(x), z;
-  T.translation() = eye;
-  return T;
-}
-
-// A 3% : 10 deg style perturbation with exactly the given magnitudes in random directions.
+// A perturbation of exactly the given magnitudes in random directions.
 Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, double trans_m, double rot_deg, std::mt19937& rng) {
   std::normal_distribution<double> g;
   const Eigen::Vector3d dt = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * trans_m;
@@ -51,7 +42,7 @@ struct Bench {
   RaycastScene scene;
   PinholeModel camera = PinholeModel::xtion();
   std::shared_ptr<const SensorRays> rays = std::make_shared<SensorRays>(makeRays(camera));
-  Eigen::Isometry3d T_world_camera = lookAt({0.0, 0.8, 1.35}, {0.0, 0.0, 0.75});
+  Eigen::Isometry3d T_world_camera = opticalLookAt({0.0, 0.8, 1.35}, {0.0, 0.0, 0.75});
   std::vector<std::pair<NodeId, Eigen::Isometry3d>> truth;
   std::vector<RefineTarget> targets;
 

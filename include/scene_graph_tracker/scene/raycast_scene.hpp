@@ -114,7 +114,6 @@ class RaycastScene {
   struct Slot {
     NodeId node = kNoNode;
     MeshId mesh = -1;
-    bool used = false;
     Eigen::Matrix3f R = Eigen::Matrix3f::Identity();  // for normals
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   };

@@ -60,6 +60,9 @@ struct SpinningLidarModel {
   static SpinningLidarModel vlp16() { return SpinningLidarModel{}; }
 };
 
+// Optical frame (z forward, x right, y down) at `eye` looking at `target`, world z up.
+Eigen::Isometry3d opticalLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
 struct SensorRays {
   int width = 0;
   int height = 0;

@@ -111,7 +111,6 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   }
 
   // Quality and assignment from the last round's pairs (cast at the pose before its update).
-  const float last_dist = thresholdOfRound(options_, options_.rounds - 1);
   for (int k = 0; k < n_obj; ++k) {
     ObjectEstimate& e = result.objects[k];
     e.T_world_object = extents[k].T_world_object;
@@ -119,8 +118,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     double sq = 0.0;
     for (std::size_t s = 0; s < measurements.size(); ++s)
       for (const RayPair& p : last_pairs[s][k]) {
-        const double r = (p.model - p.measured).norm();
-        if (r >= last_dist) continue;
+        const double r = (p.model - p.measured).norm();  // within the last round's threshold
         ++q.inliers;
         sq += r * r;
         result.assignment[s][p.ray] = targets[k].node;

@@ -166,7 +166,6 @@ unsigned RaycastScene::attachInstance(NodeId node, MeshId mesh_id, const Eigen::
   rtcReleaseGeometry(geom);
   slots_[slot].node = node;
   slots_[slot].mesh = mesh_id;
-  slots_[slot].used = true;
   slot_of_node_[node] = slot;
   writeTransform(slot, T);
   checkDevice(device_, "instance creation");

@@ -5,6 +5,15 @@
 
 namespace sgt {
 
+Eigen::Isometry3d opticalLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() << x, z.cross(x), z;
+  T.translation() = eye;
+  return T;
+}
+
 SensorRays makeRays(const PinholeModel& m) {
   if (m.width <= 0 || m.height <= 0 || !(m.fx > 0) || !(m.fy > 0))
     throw std::invalid_argument("pinhole model needs positive width, height, fx, fy (got " +
