@@ -157,5 +157,62 @@ TEST(RaycastScene, TilesCoverExactlyTheRequestedRegion) {
   EXPECT_EQ(hits.node[0], kNoNode);  // outside the tiles: untouched
 }
 
+TEST(RaycastScene, StridedTilesCastEveryOtherRay) {
+  RaycastScene scene;
+  scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), 1);
+  scene.commit();
+  PinholeModel cam;
+  cam.width = 64, cam.height = 48, cam.fx = cam.fy = 50, cam.cx = 31.5, cam.cy = 23.5;
+  const SensorRays rays = makeRays(cam);
+  // Stride 2: a tile spans 8x8 pixels; {0..16}x{0..8} is two tiles of 16 rays, at even x and y.
+  const TileSet tiles = TileSet::covering(rays, {{0, 0, 16, 8}}, 2);
+  EXPECT_EQ(tiles.stride(), 2);
+  EXPECT_EQ(tiles.rayCount(), 32u);
+  RayHits hits;
+  scene.cast(rays, at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix()), hits, &tiles);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x)
+      EXPECT_EQ(hits.node[rays.index(x, y)], (x % 2 == 0 && y % 2 == 0) ? 1 : kNoNode) << x << "," << y;
+}
+
+TEST(RaycastScene, RangeLimitStopsRaysAndSkipsInvalidOnes) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.4f, 0.6f})));
+  scene.addInstance(7, box, at({2, 0, 0}));  // front face at 1.9 m
+  scene.commit();
+  const SensorRays rays = makeRays({{1, 0, 0}, {1, 0, 0}, {1, 0, 0}});
+  const std::vector<float> limit = {1.85f, 1.88f, std::numeric_limits<float>::quiet_NaN()};
+  RayHits hits;
+  scene.cast(rays, Eigen::Isometry3d::Identity(), hits, nullptr, CastLimit{&limit, 0.03f});
+  EXPECT_EQ(hits.node[0], kNoNode);  // stops at 1.88 m, before the face
+  EXPECT_EQ(hits.node[1], 7);        // reaches 1.91 m
+  EXPECT_NEAR(hits.range[1], 1.9f, 1e-5f);
+  EXPECT_EQ(hits.node[2], kNoNode);  // no measurement: not cast
+  const std::vector<float> wrong_size = {1.0f};
+  EXPECT_THROW(scene.cast(rays, Eigen::Isometry3d::Identity(), hits, nullptr, CastLimit{&wrong_size, 0.0f}),
+               std::invalid_argument);
+}
+
+TEST(RaycastScene, WorldRaysHitLikeSensorRays) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.4f, 0.6f})));
+  scene.addInstance(7, box, at({2, 0, 0}));
+  scene.commit();
+  std::vector<WorldRay> rays;
+  for (int i = 0; i < 20; ++i) rays.push_back({{2.0f, 0.01f * i, 1.0f}, {0, 0, -1}, i < 10 ? 2.0f : 0.6f});
+  RayHits hits;
+  scene.cast(rays, hits);
+  ASSERT_EQ(hits.size(), 20u);
+  for (int i = 0; i < 20; ++i) {
+    if (i < 10) {  // down onto the top face at z = 0.3
+      ASSERT_EQ(hits.node[i], 7) << i;
+      EXPECT_NEAR(hits.point[i].z(), 0.3f, 1e-5f);
+      EXPECT_TRUE(hits.normal[i].isApprox(Eigen::Vector3f(0, 0, 1), 1e-5f));
+    } else {  // ends at z = 0.4, above the box
+      EXPECT_EQ(hits.node[i], kNoNode) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sgt

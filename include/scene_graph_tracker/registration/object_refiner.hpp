@@ -28,6 +28,10 @@ struct RefinerOptions {
   float max_dist_first = 0.06f;  // correspondence threshold in the first round (m)
   float max_dist_last = 0.012f;  // ... in the last round
   float roi_margin = 0.04f;      // object boxes grow by this much when picking the rays to cast
+  // Depth images: every ray_stride-th pixel in x and y in all rounds but the last, which casts
+  // every ray of the region (it gives the per-measurement assignment and the quality). LiDAR
+  // scans are always cast in full: few of their rays fall on objects.
+  int ray_stride = 2;
   double min_inlier_ratio = 0.3;  // below it an object counts as a false hypothesis
   double step_tolerance = 1e-6;   // inner steps stop when an update moves less (m, rad)
   AlignmentOptions alignment;

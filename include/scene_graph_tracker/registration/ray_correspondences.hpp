@@ -34,11 +34,15 @@ class NodeGroups {
 };
 
 struct PairingStats {
-  std::vector<int> expected;  // per group: valid measurements whose ray hits the group
+  // Per group: valid measurements whose ray hits the group no farther than the measurement plus
+  // max_dist, i.e. the points the group should show (a surface hidden behind something unknown
+  // that is closer is not expected to show).
+  std::vector<int> expected;
 };
 
-// Casts `tiles` of `m` and returns the accepted pairs per group (|hit range - measured| <
-// max_dist). `hits` is scratch space reused between calls.
+// Casts `tiles` of `m` (each ray only up to its measured range + max_dist) and returns the
+// accepted pairs per group (|hit range - measured| < max_dist). `hits` is scratch space reused
+// between calls.
 std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, const RangeMeasurements& m,
                                                   const TileSet& tiles, const NodeGroups& groups, float max_dist,
                                                   RayHits& hits, PairingStats* stats = nullptr);

@@ -23,6 +23,7 @@
 
 struct RTCDeviceTy;
 struct RTCSceneTy;
+struct RTCRayHit16;
 
 namespace sgt {
 
@@ -52,21 +53,42 @@ class TileSet {
  public:
   TileSet() = default;
   static TileSet all(const SensorRays& rays);
-  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects);
+  // Tiles over the union of `rects`. With stride s > 1 only every s-th ray in x and y is cast
+  // (a tile then spans 4s x 4s grid cells): coarse rounds of refinement need fewer rays.
+  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects, int stride = 1);
 
-  int tileWidth() const { return tile_w_; }
-  int tileHeight() const { return tile_h_; }
+  int stride() const { return stride_; }
   const std::vector<std::int32_t>& tiles() const { return tiles_; }  // tile indices
   std::size_t rayCount() const { return tiles_.size() * static_cast<std::size_t>(tile_w_ * tile_h_); }
-  // Calls f(ray_index) for every ray of the grid inside the covered tiles.
+  // Calls f(slot, ray_index) for the up to 16 rays of tile `b` (index into tiles()); slot is
+  // the ray's lane 0..15 inside the tile.
   template <typename F>
-  void forEachRay(const SensorRays& rays, F&& f) const;
+  void forTile(const SensorRays& rays, std::size_t b, F&& f) const;
+  // Calls f(ray_index) for every ray of the covered tiles.
+  template <typename F>
+  void forEachRay(const SensorRays& rays, F&& f) const {
+    for (std::size_t b = 0; b < tiles_.size(); ++b) forTile(rays, b, [&](int, std::size_t i) { f(i); });
+  }
 
  private:
-  friend class RaycastScene;
-  TileSet(const SensorRays& rays);
-  int tile_w_ = 4, tile_h_ = 4, tiles_x_ = 0;
+  TileSet(const SensorRays& rays, int stride);
+  int tile_w_ = 4, tile_h_ = 4, tiles_x_ = 0, stride_ = 1;
   std::vector<std::int32_t> tiles_;
+};
+
+// Optional per-ray far limit for cast(): a ray stops at range[i] + slack, and a ray whose
+// range[i] is not finite is not cast at all (its hit reads "nothing"). Correspondence search
+// uses it: a surface farther than the measurement plus the threshold cannot pair with it.
+struct CastLimit {
+  const std::vector<float>* range = nullptr;
+  float slack = 0.0f;
+};
+
+// A ray in the world frame, for incoherent casts (e.g. normal shooting).
+struct WorldRay {
+  Eigen::Vector3f origin;
+  Eigen::Vector3f direction;  // unit
+  float far;                  // the ray ends here (m)
 };
 
 struct RaycastSceneOptions {
@@ -108,7 +130,9 @@ class RaycastScene {
   // Casts every ray of `tiles` (all rays by default) from the sensor pose into `hits`
   // (resized to the grid; rays outside the tiles are left untouched).
   void cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
-            const TileSet* tiles = nullptr) const;
+            const TileSet* tiles = nullptr, const CastLimit& limit = {}) const;
+  // Casts world-frame rays; `hits` becomes a rays.size() x 1 grid.
+  void cast(const std::vector<WorldRay>& rays, RayHits& hits) const;
 
  private:
   struct Slot {
@@ -120,6 +144,7 @@ class RaycastScene {
   unsigned slotFor(NodeId node) const;
   unsigned attachInstance(NodeId node, MeshId mesh, const Eigen::Isometry3d& T);
   void writeTransform(unsigned slot, const Eigen::Isometry3d& T);
+  void writeHit(const RTCRayHit16& rh, int lane, std::size_t i, RayHits& hits) const;
 
   RaycastSceneOptions options_;
   RTCDeviceTy* device_ = nullptr;
@@ -136,13 +161,12 @@ class RaycastScene {
 
 // ---------------------------------------------------------------------------------------------
 template <typename F>
-void TileSet::forEachRay(const SensorRays& rays, F&& f) const {
-  for (const auto t : tiles_) {
-    const int tx = t % tiles_x_, ty = t / tiles_x_;
-    const int x0 = tx * tile_w_, y0 = ty * tile_h_;
-    const int x1 = std::min(x0 + tile_w_, rays.width), y1 = std::min(y0 + tile_h_, rays.height);
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) f(static_cast<std::size_t>(y) * rays.width + x);
+void TileSet::forTile(const SensorRays& rays, std::size_t b, F&& f) const {
+  const int t = tiles_[b];
+  const int x0 = (t % tiles_x_) * tile_w_ * stride_, y0 = (t / tiles_x_) * tile_h_ * stride_;
+  for (int k = 0; k < tile_w_ * tile_h_; ++k) {
+    const int x = x0 + (k % tile_w_) * stride_, y = y0 + (k / tile_w_) * stride_;
+    if (x < rays.width && y < rays.height) f(k, static_cast<std::size_t>(y) * rays.width + x);
   }
 }
 

@@ -19,7 +19,8 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, con
   std::vector<std::vector<RayPair>> out(n_groups);
   if (stats) stats->expected.assign(n_groups, 0);
   if (tiles.tiles().empty() || n_groups == 0) return out;
-  scene.cast(*m.rays, m.T_world_sensor, hits, &tiles);
+  // A surface beyond the measurement plus the threshold cannot pair with it: rays stop there.
+  scene.cast(*m.rays, m.T_world_sensor, hits, &tiles, CastLimit{&m.range, max_dist});
 
   struct Local {
     std::vector<std::vector<RayPair>> pairs;
@@ -30,26 +31,18 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, con
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
   const SensorRays& rays = *m.rays;
-  const auto& tile_ids = tiles.tiles();
-  const int tw = tiles.tileWidth(), th = tiles.tileHeight(), tiles_x = (rays.width + tw - 1) / tw;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_ids.size(), 32), [&](const auto& block) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.tiles().size(), 32), [&](const auto& block) {
     Local& local = locals.local();
-    for (std::size_t b = block.begin(); b != block.end(); ++b) {
-      const int t = tile_ids[b];
-      const int x0 = (t % tiles_x) * tw, y0 = (t / tiles_x) * th;
-      const int x1 = std::min(x0 + tw, rays.width), y1 = std::min(y0 + th, rays.height);
-      for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * rays.width + x;
-          const int g = groups(hits.node[i]);
-          if (g < 0 || !m.valid(i)) continue;
-          ++local.expected[g];
-          if (std::abs(hits.range[i] - m.range[i]) >= max_dist) continue;
-          const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
-          local.pairs[g].push_back(
-              {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
-        }
-    }
+    for (std::size_t b = block.begin(); b != block.end(); ++b)
+      tiles.forTile(rays, b, [&](int, std::size_t i) {
+        const int g = groups(hits.node[i]);
+        if (g < 0 || !m.valid(i)) return;
+        ++local.expected[g];
+        if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
+        const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
+        local.pairs[g].push_back(
+            {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
+      });
   });
   for (Local& local : locals)
     for (int g = 0; g < n_groups; ++g) {

@@ -4,6 +4,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -36,33 +38,34 @@ void RayHits::resize(int w, int h) {
 }
 
 // ------------------------------------------------------------------------------------ TileSet
-TileSet::TileSet(const SensorRays& rays) {
+TileSet::TileSet(const SensorRays& rays, int stride) : stride_(std::max(1, stride)) {
   if (rays.height >= 4) {
     tile_w_ = 4, tile_h_ = 4;
   } else {
     tile_w_ = 16, tile_h_ = 1;
   }
-  tiles_x_ = (rays.width + tile_w_ - 1) / tile_w_;
+  tiles_x_ = (rays.width + tile_w_ * stride_ - 1) / (tile_w_ * stride_);
 }
 
 TileSet TileSet::all(const SensorRays& rays) {
-  TileSet set(rays);
+  TileSet set(rays, 1);
   const int tiles_y = (rays.height + set.tile_h_ - 1) / set.tile_h_;
   set.tiles_.resize(static_cast<std::size_t>(set.tiles_x_) * tiles_y);
   for (std::size_t i = 0; i < set.tiles_.size(); ++i) set.tiles_[i] = static_cast<std::int32_t>(i);
   return set;
 }
 
-TileSet TileSet::covering(const SensorRays& rays, const std::vector<GridRect>& rects) {
-  TileSet set(rays);
-  const int tiles_y = (rays.height + set.tile_h_ - 1) / set.tile_h_;
+TileSet TileSet::covering(const SensorRays& rays, const std::vector<GridRect>& rects, int stride) {
+  TileSet set(rays, stride);
+  const int span_w = set.tile_w_ * set.stride_, span_h = set.tile_h_ * set.stride_;
+  const int tiles_y = (rays.height + span_h - 1) / span_h;
   std::vector<char> used(static_cast<std::size_t>(set.tiles_x_) * tiles_y, 0);
   for (const auto& r : rects) {
     const int x0 = std::max(0, r.x0), y0 = std::max(0, r.y0);
     const int x1 = std::min(rays.width, r.x1), y1 = std::min(rays.height, r.y1);
     if (x0 >= x1 || y0 >= y1) continue;
-    for (int ty = y0 / set.tile_h_; ty <= (y1 - 1) / set.tile_h_; ++ty)
-      for (int tx = x0 / set.tile_w_; tx <= (x1 - 1) / set.tile_w_; ++tx)
+    for (int ty = y0 / span_h; ty <= (y1 - 1) / span_h; ++ty)
+      for (int tx = x0 / span_w; tx <= (x1 - 1) / span_w; ++tx)
         used[static_cast<std::size_t>(ty) * set.tiles_x_ + tx] = 1;
   }
   for (std::size_t i = 0; i < used.size(); ++i)
@@ -204,8 +207,11 @@ void RaycastScene::commit() {
 }
 
 void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
-                        const TileSet* tiles) const {
+                        const TileSet* tiles, const CastLimit& limit) const {
   if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
+  if (limit.range && limit.range->size() != rays.size())
+    throw std::invalid_argument("RaycastScene::cast: " + std::to_string(limit.range->size()) +
+                                " range limits for " + std::to_string(rays.size()) + " rays");
   hits.resize(rays.width, rays.height);
   if (rays.size() == 0) return;
   const TileSet all = tiles ? TileSet() : TileSet::all(rays);
@@ -213,11 +219,9 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f o = T_world_sensor.translation().cast<float>();
   const bool per_ray_origin = !rays.origins.empty();
-  const int tw = set.tile_w_, th = set.tile_h_, tiles_x = set.tiles_x_;
-  const Slot* slots = slots_.data();
   RTCScene scene = top_;
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.tiles_.size(), 16), [&](const auto& block) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.tiles().size(), 16), [&](const auto& block) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -225,23 +229,58 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
     RTCRayHit16 rh;
     std::size_t index[16];
     for (std::size_t b = block.begin(); b != block.end(); ++b) {
-      const int t = set.tiles_[b];
-      const int x0 = (t % tiles_x) * tw, y0 = (t / tiles_x) * th;
-      for (int k = 0; k < 16; ++k) {
-        const int x = x0 + k % tw, y = y0 + k / tw;
-        if (x >= rays.width || y >= rays.height) {
-          valid[k] = 0;
-          continue;
+      std::fill(std::begin(valid), std::end(valid), 0);
+      set.forTile(rays, b, [&](int k, std::size_t i) {
+        float far = rays.range_max;
+        if (limit.range) {
+          const float r = (*limit.range)[i];
+          if (!std::isfinite(r)) {
+            hits.range[i] = std::numeric_limits<float>::infinity();
+            hits.node[i] = kNoNode;
+            return;
+          }
+          far = std::min(far, r + limit.slack);
         }
         valid[k] = -1;
-        const std::size_t i = static_cast<std::size_t>(y) * rays.width + x;
         index[k] = i;
         const Eigen::Vector3f d = R * rays.directions[i];
         const Eigen::Vector3f org = per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o;
         rh.ray.org_x[k] = org.x(), rh.ray.org_y[k] = org.y(), rh.ray.org_z[k] = org.z();
         rh.ray.dir_x[k] = d.x(), rh.ray.dir_y[k] = d.y(), rh.ray.dir_z[k] = d.z();
         rh.ray.tnear[k] = rays.range_min;
-        rh.ray.tfar[k] = rays.range_max;
+        rh.ray.tfar[k] = far;
+        rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = 0xFFFFFFFFu;
+        rh.ray.id[k] = k;
+        rh.ray.flags[k] = 0;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      });
+      rtcIntersect16(valid, scene, &context, &rh);
+      for (int k = 0; k < 16; ++k)
+        if (valid[k]) writeHit(rh, k, index[k], hits);
+    }
+  });
+}
+
+void RaycastScene::cast(const std::vector<WorldRay>& rays, RayHits& hits) const {
+  if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
+  hits.resize(static_cast<int>(rays.size()), 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (rays.size() + 15) / 16, 16), [&](const auto& block) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    alignas(64) int valid[16];
+    RTCRayHit16 rh;
+    for (std::size_t b = block.begin(); b != block.end(); ++b) {
+      for (int k = 0; k < 16; ++k) {
+        const std::size_t i = b * 16 + k;
+        valid[k] = i < rays.size() ? -1 : 0;
+        if (!valid[k]) continue;
+        const WorldRay& r = rays[i];
+        rh.ray.org_x[k] = r.origin.x(), rh.ray.org_y[k] = r.origin.y(), rh.ray.org_z[k] = r.origin.z();
+        rh.ray.dir_x[k] = r.direction.x(), rh.ray.dir_y[k] = r.direction.y(), rh.ray.dir_z[k] = r.direction.z();
+        rh.ray.tnear[k] = 0.0f;
+        rh.ray.tfar[k] = r.far;
         rh.ray.time[k] = 0.0f;
         rh.ray.mask[k] = 0xFFFFFFFFu;
         rh.ray.id[k] = k;
@@ -249,29 +288,30 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
-      rtcIntersect16(valid, scene, &context, &rh);
-      for (int k = 0; k < 16; ++k) {
-        if (!valid[k]) continue;
-        const std::size_t i = index[k];
-        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-          hits.range[i] = std::numeric_limits<float>::infinity();
-          hits.node[i] = kNoNode;
-          continue;
-        }
-        const float r = rh.ray.tfar[k];
-        const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
-        const Slot& s = slots[rh.hit.instID[0][k]];
-        Eigen::Vector3f n = s.R * Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
-        n.normalize();
-        if (n.dot(d) > 0.0f) n = -n;
-        hits.range[i] = r;
-        hits.point[i] = Eigen::Vector3f(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]) + r * d;
-        hits.normal[i] = n;
-        hits.node[i] = s.node;
-        hits.primitive[i] = rh.hit.primID[k];
-      }
+      rtcIntersect16(valid, top_, &context, &rh);
+      for (int k = 0; k < 16; ++k)
+        if (valid[k]) writeHit(rh, k, b * 16 + k, hits);
     }
   });
+}
+
+void RaycastScene::writeHit(const RTCRayHit16& rh, int k, std::size_t i, RayHits& hits) const {
+  if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+    hits.range[i] = std::numeric_limits<float>::infinity();
+    hits.node[i] = kNoNode;
+    return;
+  }
+  const float r = rh.ray.tfar[k];
+  const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+  const Slot& s = slots_[rh.hit.instID[0][k]];
+  Eigen::Vector3f n = s.R * Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+  n.normalize();
+  if (n.dot(d) > 0.0f) n = -n;
+  hits.range[i] = r;
+  hits.point[i] = Eigen::Vector3f(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]) + r * d;
+  hits.normal[i] = n;
+  hits.node[i] = s.node;
+  hits.primitive[i] = rh.hit.primID[k];
 }
 
 }  // namespace sgt
