@@ -63,7 +63,7 @@ struct IterativeAlignment {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // moves `moving` onto `fixed`
   AlignmentStatus status = AlignmentStatus::kTooFewPoints;
   int steps = 0;
-  PairMoments last;  // of the last step's pairs
+  PairMoments last;  // of the pairs at the last step that summed them (the first, for the linear step)
 };
 
 // Up to `steps` steps over fixed pairs; the moving side follows the running estimate.

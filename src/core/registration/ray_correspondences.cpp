@@ -2,6 +2,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 namespace sgt {
 
@@ -55,25 +56,48 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, con
 namespace {
 
 // One point-to-plane least-squares step: residual n.(p - q), Jacobian [q x n, n] when the normal
-// turns with the moving side, [p x n, n] when it belongs to the fixed side.
+// turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
+// are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
+// double.
 bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
                             const std::vector<Eigen::Vector3f>& normals, NormalSide side, const Eigen::Matrix3f& R,
                             const Eigen::Vector3f& t, Eigen::Matrix3d& dR, Eigen::Vector3d& dt) {
-  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-  for (std::size_t i = 0; i < moving.size(); ++i) {
-    const Eigen::Vector3f p = R * moving[i] + t;
-    const Eigen::Vector3f n = side == NormalSide::kMoving ? Eigen::Vector3f(R * normals[i]) : normals[i];
-    const Eigen::Vector3f lever = side == NormalSide::kMoving ? fixed[i] : p;
-    Eigen::Matrix<double, 6, 1> J;
-    J << lever.cross(n).cast<double>(), n.cast<double>();
-    const double r = n.dot(p - fixed[i]);
-    H.selfadjointView<Eigen::Upper>().rankUpdate(J);
-    g += J * r;
-  }
-  H = H.selfadjointView<Eigen::Upper>();
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  struct Sums {
+    Mat6 H = Mat6::Zero();
+    Vec6 g = Vec6::Zero();
+  };
+  constexpr std::size_t kChunk = 1024;
+  const auto chunk = [&](std::size_t begin, std::size_t end, Sums& out) {
+    Eigen::Matrix<float, 6, 6> H = Eigen::Matrix<float, 6, 6>::Zero();
+    Eigen::Matrix<float, 6, 1> g = Eigen::Matrix<float, 6, 1>::Zero();
+    for (std::size_t i = begin; i < end; ++i) {
+      const Eigen::Vector3f p = R * moving[i] + t;
+      const Eigen::Vector3f n = side == NormalSide::kMoving ? Eigen::Vector3f(R * normals[i]) : normals[i];
+      const Eigen::Vector3f& lever = side == NormalSide::kMoving ? fixed[i] : p;
+      Eigen::Matrix<float, 6, 1> J;
+      J << lever.cross(n), n;
+      H.noalias() += J * J.transpose();
+      g.noalias() += J * n.dot(p - fixed[i]);
+    }
+    out.H += H.cast<double>();
+    out.g += g.cast<double>();
+  };
+  const std::size_t n = moving.size();
+  const Sums sums = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kChunk), Sums{},
+      [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
+        for (std::size_t b = r.begin(); b < r.end(); b += kChunk) chunk(b, std::min(r.end(), b + kChunk), acc);
+        return acc;
+      },
+      [](Sums a, const Sums& b) {
+        a.H += b.H, a.g += b.g;
+        return a;
+      });
+  Mat6 H = sums.H;
   H.diagonal().array() += 1e-9 + 1e-6 * H.trace() / 6.0;  // keeps unobservable directions still
-  const Eigen::Matrix<double, 6, 1> x = H.ldlt().solve(-g);
+  const Vec6 x = H.ldlt().solve(-sums.g);
   if (!x.allFinite()) return false;
   const Eigen::Vector3d w = x.head<3>();
   dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
@@ -91,26 +115,32 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const 
   Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
   Eigen::Vector3f t = Eigen::Vector3f::Zero();
   for (int s = 0; s < steps; ++s) {
-    PairMoments mom;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3f p = R * moving[i] + t;
-      const Eigen::Vector3f& q = fixed[i];
-      Eigen::Vector3f a = p, b = q;
-      if (solver == StepSolver::kUmeyamaPointToPlane) {
-        if (side == NormalSide::kMoving) {
-          const Eigen::Vector3f nn = R * normals[i];
-          a = q + nn * nn.dot(p - q);  // foot of q on the moving tangent plane
-        } else {
-          const Eigen::Vector3f& nn = normals[i];
-          b = p + nn * nn.dot(q - p);  // foot of p on the fixed tangent plane
+    // Umeyama solvers need the moments of every step; the linear step only their first-step
+    // degeneracy check (the spread of a rigidly moved set does not change).
+    const bool need_moments = solver != StepSolver::kLinearPointToPlane || s == 0;
+    Alignment step;
+    if (need_moments) {
+      PairMoments mom;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3f p = R * moving[i] + t;
+        const Eigen::Vector3f& q = fixed[i];
+        Eigen::Vector3f a = p, b = q;
+        if (solver == StepSolver::kUmeyamaPointToPlane) {
+          if (side == NormalSide::kMoving) {
+            const Eigen::Vector3f nn = R * normals[i];
+            a = q + nn * nn.dot(p - q);  // foot of q on the moving tangent plane
+          } else {
+            const Eigen::Vector3f& nn = normals[i];
+            b = p + nn * nn.dot(q - p);  // foot of p on the fixed tangent plane
+          }
         }
+        mom.add(a.cast<double>(), b.cast<double>());
       }
-      mom.add(a.cast<double>(), b.cast<double>());
+      out.last = mom;
+      step = umeyama(mom, options);  // also the degeneracy check for every solver
+      out.status = step.status;
+      if (!step.ok()) break;
     }
-    out.last = mom;
-    const Alignment step = umeyama(mom, options);  // also the degeneracy check for every solver
-    out.status = step.status;
-    if (!step.ok()) break;
     Eigen::Matrix3d dRd = step.T.linear();
     Eigen::Vector3d dtd = step.T.translation();
     if (solver == StepSolver::kLinearPointToPlane &&
