@@ -1,0 +1,171 @@
+// Pre-segmentation against ground truth from the simulation: things the catalog does not have
+// (boxes, a person-sized cylinder) must come out as unknown, the tracked object and the map as
+// themselves, and a panel the map has but the world no longer has as "behind".
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/segmentation/presegmentation.hpp"
+#include "scene_graph_tracker/sensors/noise.hpp"
+#include "scene_graph_tracker/sensors/simulation.hpp"
+
+namespace sgt {
+namespace {
+
+constexpr NodeId kMap = 1, kTracked = 30;
+
+Eigen::Isometry3d at(const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = t;
+  return T;
+}
+
+struct Scores {
+  double precision, recall;
+  std::size_t truth;
+};
+
+class PresegmentationTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    BuildingOptions o;
+    o.target_triangles = 0;
+    o.tile_size = 1.0f;
+    building_ = new Building(makeBuilding(o));
+  }
+  static void TearDownTestSuite() { delete building_; }
+
+  void SetUp() override {
+    scene_.setStaticMap(std::make_shared<TriangleMesh>(building_->mesh), kMap);
+    base_ = building_->robot_start.cast<double>();
+    // Distractors around the robot: three boxes and a person-sized cylinder.
+    const auto add = [&](NodeId node, const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+      scene_.addInstance(node, scene_.addMesh(std::make_shared<TriangleMesh>(mesh)), at(base_ + p));
+      distractors_.push_back(node);
+    };
+    add(40, makeBox({0.5f, 0.4f, 0.6f}), {1.8, 0.9, 0.3});
+    add(41, makeBox({0.3f, 0.3f, 0.3f}), {-1.6, 1.7, 0.15});
+    add(42, makeBox({0.8f, 0.4f, 1.0f}), {0.3, -2.4, 0.5});
+    add(43, makeCylinder(0.25f, 1.75f, 48), {2.2, -1.2, 0.875});
+    // A known object the tracker has in its scene.
+    scene_.addInstance(kTracked, scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.4f, 0.3f, 0.5f}))),
+                       at(base_ + Eigen::Vector3d(-1.5, -1.0, 0.25)));
+    scene_.commit();
+  }
+
+  // Simulates `rays` from `T` with everything present, then hides the distractors from the
+  // tracker's scene and pre-segments; scores the unknown label against the simulated owners.
+  Scores run(const SensorModel& model, std::shared_ptr<SensorRays> rays, const Eigen::Isometry3d& T) {
+    const SimulatedScan s = simulate(scene_, *rays, T);
+    RangeMeasurements m = std::holds_alternative<PinholeModel>(model)
+                              ? fromDepthImage(std::get<PinholeModel>(model), rays, depthImage(s, *rays), T)
+                              : fromRanges(model, rays, s.range, T);
+    if (std::holds_alternative<PinholeModel>(model))
+      addDepthNoise(m, 0.0015, 5);
+    else
+      addRangeNoise(m, 0.01, 5);
+    for (const NodeId d : distractors_) scene_.setInstanceEnabled(d, false);
+    scene_.commit();
+    result_ = presegment(scene_, m);
+    for (const NodeId d : distractors_) scene_.setInstanceEnabled(d, true);
+    scene_.commit();
+
+    std::size_t tp = 0, fp = 0, fn = 0, object_ok = 0, object_truth = 0;
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      if (!m.valid(i)) {
+        EXPECT_EQ(result_.label[i], PointLabel::kInvalid);
+        continue;
+      }
+      const bool truth = std::find(distractors_.begin(), distractors_.end(), s.node[i]) != distractors_.end();
+      const bool said = result_.label[i] == PointLabel::kUnknown;
+      tp += truth && said, fp += !truth && said, fn += truth && !said;
+      if (s.node[i] == kTracked) {
+        ++object_truth;
+        object_ok += result_.label[i] == PointLabel::kObject && result_.node[i] == kTracked;
+      }
+    }
+    std::printf("unknown: precision %.4f recall %.4f over %zu true unknown points; reduction %.3f\n",
+                tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0, tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0,
+                tp + fn, result_.counts.reduction());
+    if (object_truth > 0) EXPECT_GE(static_cast<double>(object_ok) / object_truth, 0.98);
+    EXPECT_EQ(result_.counts.unknown, result_.unknown_points.size());
+    EXPECT_EQ(result_.counts.valid() + result_.counts.invalid, m.size());
+    return {tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0, tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0,
+            tp + fn};
+  }
+
+  static Building* building_;
+  RaycastScene scene_;
+  Eigen::Vector3d base_;
+  std::vector<NodeId> distractors_;
+  Presegmentation result_;
+};
+Building* PresegmentationTest::building_ = nullptr;
+
+TEST_F(PresegmentationTest, LidarFindsTheUnknownThings) {
+  auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  const Scores s = run(SpinningLidarModel::vlp16(), rays, at(base_ + Eigen::Vector3d(0, 0, 0.9)));
+  ASSERT_GT(s.truth, 300u);  // the distractors are in view
+  // The goals: precision >= 0.95, recall >= 0.98.
+  EXPECT_GE(s.precision, 0.95);
+  EXPECT_GE(s.recall, 0.98);
+  EXPECT_GT(result_.counts.reduction(), 0.5);  // most of the scan is map
+}
+
+TEST_F(PresegmentationTest, DepthCameraFindsTheUnknownThings) {
+  const PinholeModel cam = PinholeModel::xtion();
+  auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  const Eigen::Vector3d eye = base_ + Eigen::Vector3d(0, 0, 1.2);
+  const Scores s = run(cam, rays, opticalLookAt(eye, base_ + Eigen::Vector3d(2.0, -0.4, 0.4)));
+  ASSERT_GT(s.truth, 3000u);
+  EXPECT_GE(s.precision, 0.95);
+  EXPECT_GE(s.recall, 0.98);
+}
+
+TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
+  // The tracker's scene has a panel (say a door leaf the map knows) that the world lost.
+  const MeshId panel = scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.05f, 1.0f, 2.0f})));
+  scene_.addInstance(50, panel, at(base_ + Eigen::Vector3d(-0.8, 0.0, 1.0)));
+  scene_.setInstanceEnabled(50, false);
+  scene_.commit();
+  auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  const Eigen::Isometry3d T = at(base_ + Eigen::Vector3d(0, 0, 0.9));
+  const SimulatedScan s = simulate(scene_, *rays, T);
+  scene_.setInstanceEnabled(50, true);
+  scene_.commit();
+  RayHits predicted;
+  scene_.cast(*rays, T, predicted);
+  const Presegmentation p = presegment(scene_, fromRanges(SpinningLidarModel::vlp16(), rays, s.range, T));
+  std::size_t through_panel = 0, behind = 0;
+  for (std::size_t i = 0; i < s.range.size(); ++i) {
+    if (predicted.node[i] != 50 || !std::isfinite(s.range[i])) continue;
+    ++through_panel;
+    behind += p.label[i] == PointLabel::kBehind;
+  }
+  ASSERT_GT(through_panel, 50u);
+  EXPECT_EQ(behind, through_panel);
+  EXPECT_EQ(p.counts.behind, behind);
+}
+
+TEST(Presegmentation, InvalidAndEmptyInput) {
+  RaycastScene scene;
+  scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), kMap);
+  scene.commit();
+  auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  RangeMeasurements m = fromRanges(SpinningLidarModel::vlp16(), rays,
+                                   std::vector<float>(rays->size(), std::numeric_limits<float>::quiet_NaN()),
+                                   at({0, 0, 1}));
+  const Presegmentation p = presegment(scene, m);
+  EXPECT_EQ(p.counts.invalid, rays->size());
+  EXPECT_EQ(p.counts.valid(), 0u);
+  EXPECT_TRUE(p.unknown_points.empty());
+  EXPECT_EQ(p.counts.reduction(), 0.0);
+  auto empty_rays = std::make_shared<SensorRays>();
+  const Presegmentation e = presegment(scene, fromRanges(SpinningLidarModel::vlp16(), empty_rays, {}, at({0, 0, 1})));
+  EXPECT_TRUE(e.label.empty());
+}
+
+}  // namespace
+}  // namespace sgt
