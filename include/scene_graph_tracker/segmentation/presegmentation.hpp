@@ -4,7 +4,7 @@
 // points to 3,515, -86 %).
 //
 // Each measurement's ray is cast in full into the scene at the current estimates and its range r
-// compared with the predicted range p: |r - p| <= tolerance(p) -> the hit's owner (map or object);
+// compared with the predicted range p: |r - p| <= tolerance(p) (from the sensor's noise) -> the hit's owner (map or object);
 // r < p - tolerance -> unknown (something stands in front of what the tracker knows); r > p +
 // tolerance -> behind (the map changed, e.g. a door was opened); no predicted hit -> unknown.
 #pragma once
@@ -20,9 +20,14 @@ enum class PointLabel : std::uint8_t { kInvalid, kStaticMap, kObject, kUnknown, 
 const char* toString(PointLabel l);
 
 struct PresegmentOptions {
-  // tolerance(p) = tolerance + tolerance_per_m2 * p^2 (sensor noise grows with range).
-  float tolerance = 0.03f;
-  float tolerance_per_m2 = 0.002f;
+  // A measurement agrees with the predicted surface within sigma_factor x its noise sigma (at the
+  // predicted range p), and never less than min_tolerance (map and mesh modelling error). The
+  // noise: depth images sigma = depth_sigma_at_1m * p^2 (structured light / stereo), other
+  // sensors a constant range_sigma (LiDAR).
+  float sigma_factor = 3.0f;
+  float min_tolerance = 0.02f;
+  float depth_sigma_at_1m = 0.0015f;
+  float range_sigma = 0.01f;
 };
 
 struct LabelCounts {

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 namespace sgt {
 
 const char* toString(PointLabel l) {
@@ -24,6 +26,11 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   RayHits hits;
   scene.cast(*m.rays, m.T_world_sensor, hits);
   const NodeId map = scene.staticMapNode();
+  const bool depth = std::holds_alternative<PinholeModel>(m.model);
+  const auto tolerance = [&](float p) {
+    const float sigma = depth ? options.depth_sigma_at_1m * p * p : options.range_sigma;
+    return std::max(options.min_tolerance, options.sigma_factor * sigma);
+  };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       if (!m.valid(i)) continue;
@@ -32,7 +39,7 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
         continue;
       }
       const float p = hits.range[i];
-      const float tol = options.tolerance + options.tolerance_per_m2 * p * p;
+      const float tol = tolerance(p);
       const float d = m.range[i] - p;
       if (d < -tol) {
         out.label[i] = PointLabel::kUnknown;
