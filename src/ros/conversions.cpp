@@ -1,0 +1,168 @@
+#include "scene_graph_tracker/ros/conversions.hpp"
+
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+namespace sgt::ros {
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p) {
+  Eigen::Quaterniond q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
+  if (!(q.norm() > 1e-9)) throw ConversionError("pose with a zero quaternion");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  return T;
+}
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
+  geometry_msgs::Pose p;
+  p.position.x = t.translation.x, p.position.y = t.translation.y, p.position.z = t.translation.z;
+  p.orientation = t.rotation;
+  return toEigen(p);
+}
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
+  geometry_msgs::Pose p;
+  const Eigen::Quaterniond q(T.linear());
+  p.position.x = T.translation().x(), p.position.y = T.translation().y(), p.position.z = T.translation().z();
+  p.orientation.w = q.w(), p.orientation.x = q.x(), p.orientation.y = q.y(), p.orientation.z = q.z();
+  return p;
+}
+
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
+  const geometry_msgs::Pose p = toPose(T);
+  geometry_msgs::Transform t;
+  t.translation.x = p.position.x, t.translation.y = p.position.y, t.translation.z = p.position.z;
+  t.rotation = p.orientation;
+  return t;
+}
+
+PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min, float range_max) {
+  if (info.width == 0 || info.height == 0) throw ConversionError("camera_info has a zero image size");
+  if (!(info.K[0] > 0.0) || !(info.K[4] > 0.0))
+    throw ConversionError("camera_info has no focal length (K[0] = " + std::to_string(info.K[0]) +
+                          ", K[4] = " + std::to_string(info.K[4]) + ")");
+  PinholeModel cam;
+  cam.width = static_cast<int>(info.width), cam.height = static_cast<int>(info.height);
+  cam.fx = info.K[0], cam.fy = info.K[4], cam.cx = info.K[2], cam.cy = info.K[5];
+  cam.range_min = range_min, cam.range_max = range_max;
+  return cam;
+}
+
+sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam) {
+  sensor_msgs::CameraInfo info;
+  info.width = cam.width, info.height = cam.height;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};
+  return info;
+}
+
+std::vector<float> depthFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
+  namespace enc = sensor_msgs::image_encodings;
+  if (static_cast<int>(img.width) != cam.width || static_cast<int>(img.height) != cam.height)
+    throw ConversionError("depth image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                          " but camera_info says " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+  const bool f32 = img.encoding == enc::TYPE_32FC1, u16 = img.encoding == enc::TYPE_16UC1 || img.encoding == enc::MONO16;
+  if (!f32 && !u16)
+    throw ConversionError("depth image encoding '" + img.encoding + "' is not supported (use 32FC1 m or 16UC1 mm)");
+  const std::size_t bpp = f32 ? 4 : 2, w = img.width, h = img.height;
+  if (img.step < w * bpp || img.data.size() < img.step * h)
+    throw ConversionError("depth image data is too short: step " + std::to_string(img.step) + ", " +
+                          std::to_string(img.data.size()) + " bytes for " + std::to_string(w) + "x" + std::to_string(h));
+  if (img.is_bigendian) throw ConversionError("big-endian depth images are not supported");
+  std::vector<float> depth(w * h);
+  for (std::size_t y = 0; y < h; ++y) {
+    const std::uint8_t* row = img.data.data() + y * img.step;
+    for (std::size_t x = 0; x < w; ++x) {
+      float d;
+      if (f32) {
+        std::memcpy(&d, row + 4 * x, 4);
+      } else {
+        std::uint16_t mm;
+        std::memcpy(&mm, row + 2 * x, 2);
+        d = mm * 0.001f;
+      }
+      depth[y * w + x] = std::isfinite(d) && d > 0.0f ? d : std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+  return depth;
+}
+
+sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, int height) {
+  sensor_msgs::Image img;
+  img.width = width, img.height = height;
+  img.encoding = sensor_msgs::image_encodings::TYPE_32FC1;
+  img.is_bigendian = 0;
+  img.step = 4 * width;
+  img.data.resize(depth_m.size() * 4);
+  std::memcpy(img.data.data(), depth_m.data(), img.data.size());
+  return img;
+}
+
+std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud, const SpinningLidarModel& model) {
+  bool has[3] = {false, false, false};
+  for (const auto& f : cloud.fields)
+    for (int k = 0; k < 3; ++k)
+      if (f.name == std::string(1, "xyz"[k])) {
+        if (f.datatype != sensor_msgs::PointField::FLOAT32)
+          throw ConversionError("point cloud field '" + f.name + "' is not float32");
+        has[k] = true;
+      }
+  if (!has[0] || !has[1] || !has[2]) throw ConversionError("point cloud has no x, y, z float32 fields");
+  const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
+  if (cloud.data.size() < n * cloud.point_step)
+    throw ConversionError("point cloud data is shorter than width x height x point_step");
+  const std::size_t size = static_cast<std::size_t>(model.columns) * model.rings;
+  std::vector<float> ranges(size, std::numeric_limits<float>::quiet_NaN());
+  const bool organized = cloud.height == static_cast<std::uint32_t>(model.rings) &&
+                         cloud.width == static_cast<std::uint32_t>(model.columns);
+  sensor_msgs::PointCloud2ConstIterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  const double phi_inc = model.phiInc() > 0 ? model.phiInc() : 1.0;
+  for (std::size_t i = 0; i < n; ++i, ++x, ++y, ++z) {
+    const float r = std::sqrt(*x * *x + *y * *y + *z * *z);
+    if (!std::isfinite(r) || r <= 0.0f) continue;
+    std::size_t cell = i;
+    if (!organized) {
+      const int ring = static_cast<int>(std::lround((std::atan2(*z, std::hypot(*x, *y)) - model.phi_min) / phi_inc));
+      int col = static_cast<int>(std::lround((std::atan2(*y, *x) - model.theta_min) / model.theta_inc));
+      col = ((col % model.columns) + model.columns) % model.columns;
+      if (ring < 0 || ring >= model.rings) continue;
+      cell = static_cast<std::size_t>(ring) * model.columns + col;
+    }
+    if (!(ranges[cell] <= r)) ranges[cell] = r;  // NaN or farther: the nearest return wins
+  }
+  return ranges;
+}
+
+sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const SensorRays& rays,
+                                         const std::vector<float>& intensity) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.height = rays.height, cloud.width = rays.width;
+  sensor_msgs::PointCloud2Modifier mod(cloud);
+  mod.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z",
+                           1, sensor_msgs::PointField::FLOAT32, "intensity", 1, sensor_msgs::PointField::FLOAT32,
+                           "ring", 1, sensor_msgs::PointField::UINT16);
+  cloud.is_dense = false;
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"), in(cloud, "intensity");
+  sensor_msgs::PointCloud2Iterator<std::uint16_t> ring(cloud, "ring");
+  for (std::size_t i = 0; i < ranges.size(); ++i, ++x, ++y, ++z, ++in, ++ring) {
+    const float r = ranges[i];
+    const bool ok = std::isfinite(r) && r > 0.0f;
+    const Eigen::Vector3f p = ok ? Eigen::Vector3f(rays.directions[i] * r)
+                                 : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+    *x = p.x(), *y = p.y(), *z = p.z();
+    *in = i < intensity.size() ? intensity[i] : 0.0f;
+    *ring = static_cast<std::uint16_t>(i / rays.width);
+  }
+  return cloud;
+}
+
+}  // namespace sgt::ros

@@ -1,0 +1,105 @@
+// Message <-> core conversions: round trips and the errors bad messages must give.
+#include <gtest/gtest.h>
+
+#include <sensor_msgs/image_encodings.h>
+
+#include "scene_graph_tracker/ros/conversions.hpp"
+
+namespace sgt::ros {
+namespace {
+
+TEST(Conversions, PoseRoundTrip) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(1, -2, 3);
+  EXPECT_TRUE(toEigen(toPose(T)).isApprox(T, 1e-12));
+  EXPECT_TRUE(toEigen(toTransform(T)).isApprox(T, 1e-12));
+  geometry_msgs::Pose zero;
+  zero.orientation.w = 0;
+  EXPECT_THROW(toEigen(zero), ConversionError);
+}
+
+TEST(Conversions, CameraInfoRoundTripAndBadInfo) {
+  PinholeModel cam;
+  cam.fx = 500, cam.fy = 510, cam.cx = 300, cam.cy = 200;
+  const PinholeModel back = toPinhole(toCameraInfo(cam));
+  EXPECT_EQ(back.width, 640);
+  EXPECT_DOUBLE_EQ(back.fy, 510);
+  EXPECT_DOUBLE_EQ(back.cx, 300);
+  sensor_msgs::CameraInfo empty;
+  EXPECT_THROW(toPinhole(empty), ConversionError);
+}
+
+TEST(Conversions, DepthImagesIn32FAnd16U) {
+  PinholeModel cam;
+  cam.width = 4, cam.height = 2;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float> depth = {1.0f, 2.5f, nan, 0.75f, 3.0f, 0.0f, 1.25f, 4.0f};
+  const std::vector<float> back = depthFromImage(depthToImage(depth, 4, 2), cam);
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    if (std::isfinite(depth[i]) && depth[i] > 0)
+      EXPECT_FLOAT_EQ(back[i], depth[i]);
+    else
+      EXPECT_TRUE(std::isnan(back[i])) << i;  // 0 and NaN both mean "no return"
+  }
+  sensor_msgs::Image mm;
+  mm.width = 4, mm.height = 2, mm.step = 8, mm.encoding = sensor_msgs::image_encodings::TYPE_16UC1;
+  mm.data.assign(16, 0);
+  mm.data[0] = 0xE8, mm.data[1] = 0x03;  // 1000 mm
+  const std::vector<float> m = depthFromImage(mm, cam);
+  EXPECT_FLOAT_EQ(m[0], 1.0f);
+  EXPECT_TRUE(std::isnan(m[1]));
+}
+
+TEST(Conversions, BadDepthImagesAreRejectedWithAReason) {
+  PinholeModel cam;
+  cam.width = 4, cam.height = 2;
+  sensor_msgs::Image img = depthToImage(std::vector<float>(8, 1.0f), 4, 2);
+  img.encoding = "rgb8";
+  try {
+    depthFromImage(img, cam);
+    FAIL();
+  } catch (const ConversionError& e) {
+    EXPECT_NE(std::string(e.what()).find("rgb8"), std::string::npos);
+  }
+  cam.width = 5;
+  try {
+    depthFromImage(depthToImage(std::vector<float>(8, 1.0f), 4, 2), cam);
+    FAIL();
+  } catch (const ConversionError& e) {
+    EXPECT_NE(std::string(e.what()).find("4x2"), std::string::npos);
+  }
+  cam.width = 4;
+  sensor_msgs::Image short_data = depthToImage(std::vector<float>(8, 1.0f), 4, 2);
+  short_data.data.resize(10);
+  EXPECT_THROW(depthFromImage(short_data, cam), ConversionError);
+}
+
+TEST(Conversions, LidarCloudOrganizedAndUnorganized) {
+  const SpinningLidarModel model = SpinningLidarModel::vlp16();
+  const SensorRays rays = makeRays(model);
+  std::vector<float> ranges(rays.size(), std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t i = 0; i < ranges.size(); i += 7) ranges[i] = 1.0f + 0.001f * (i % 1000);
+  const sensor_msgs::PointCloud2 cloud = cloudFromRanges(ranges, rays, {});
+  const std::vector<float> back = rangesFromCloud(cloud, model);
+  ASSERT_EQ(back.size(), ranges.size());
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    if (std::isfinite(ranges[i]))
+      EXPECT_NEAR(back[i], ranges[i], 1e-5f);
+    else
+      EXPECT_TRUE(std::isnan(back[i]));
+  }
+  // The same points as one unorganized row (like a driver that drops no-returns) bin back.
+  sensor_msgs::PointCloud2 flat = cloud;
+  flat.height = 1, flat.width = cloud.width * cloud.height, flat.row_step = flat.width * flat.point_step;
+  const std::vector<float> binned = rangesFromCloud(flat, model);
+  std::size_t same = 0, total = 0;
+  for (std::size_t i = 0; i < ranges.size(); ++i)
+    if (std::isfinite(ranges[i])) ++total, same += std::abs(binned[i] - ranges[i]) < 1e-4f;
+  EXPECT_EQ(same, total);
+  sensor_msgs::PointCloud2 no_xyz;
+  EXPECT_THROW(rangesFromCloud(no_xyz, model), ConversionError);
+}
+
+}  // namespace
+}  // namespace sgt::ros
