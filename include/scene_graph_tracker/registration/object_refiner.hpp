@@ -29,9 +29,11 @@ struct RefinerOptions {
   float max_dist_last = 0.012f;  // ... in the last round
   float roi_margin = 0.04f;      // object boxes grow by this much when picking the rays to cast
   // Depth images: every ray_stride-th pixel in x and y in all rounds but the last, which casts
-  // every ray of the region (it gives the per-measurement assignment and the quality). LiDAR
-  // scans are always cast in full: few of their rays fall on objects.
+  // every ray of the region when full_resolution_last_round is set (it gives the assignment of
+  // every measurement near the objects; a pipeline that pre-segments the frame anyway can turn it
+  // off). LiDAR scans are always cast in full: few of their rays fall on objects.
   int ray_stride = 2;
+  bool full_resolution_last_round = true;
   double min_inlier_ratio = 0.3;  // below it an object counts as a false hypothesis
   double step_tolerance = 1e-6;   // inner steps stop when an update moves less (m, rad)
   AlignmentOptions alignment;

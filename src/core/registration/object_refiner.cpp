@@ -78,7 +78,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     std::fill(expected.begin(), expected.end(), 0);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
-      const bool coarse = round + 1 < options_.rounds && std::holds_alternative<PinholeModel>(m.model);
+      const bool last = round + 1 == options_.rounds;
+      const bool coarse = (!last || !options_.full_resolution_last_round) && std::holds_alternative<PinholeModel>(m.model);
       const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, extents, options_.roi_margin),
                                               coarse ? options_.ray_stride : 1);
       result.rays_cast += tiles.rayCount();

@@ -1,0 +1,60 @@
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sgt {
+
+double addError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true) {
+  if (pts.empty()) return 0.0;
+  const Eigen::Isometry3f E = T_est.cast<float>(), T = T_true.cast<float>();
+  double sum = 0.0;
+  for (const auto& p : pts) sum += (E * p - T * p).norm();
+  return sum / pts.size();
+}
+
+double addSError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true) {
+  if (pts.empty()) return 0.0;
+  // In the true object frame: compare (T_true^-1 T_est) p against the model points themselves.
+  const Eigen::Isometry3f rel = (T_true.inverse() * T_est).cast<float>();
+  double sum = 0.0;
+  for (const auto& p : pts) {
+    const Eigen::Vector3f q = rel * p;
+    float best = std::numeric_limits<float>::max();
+    for (const auto& t : pts) best = std::min(best, (q - t).squaredNorm());
+    sum += std::sqrt(best);
+  }
+  return sum / pts.size();
+}
+
+PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
+                      const Eigen::Isometry3d& T_true) {
+  PoseErrors e;
+  e.translation = (T_est.translation() - T_true.translation()).norm();
+  e.add_s = addSError(pts, T_est, T_true);
+  e.add = std::numeric_limits<double>::max();
+  e.rotation_deg = std::numeric_limits<double>::max();
+  for (const Eigen::Isometry3d& S : object.symmetry.sampled()) {
+    const Eigen::Isometry3d T_sym = T_true * S;
+    e.add = std::min(e.add, addError(pts, T_est, T_sym));
+    e.rotation_deg = std::min(e.rotation_deg,
+                              Eigen::AngleAxisd(T_est.linear().transpose() * T_sym.linear()).angle() * 180.0 / M_PI);
+  }
+  // A continuous symmetry leaves only the tilt of its axis observable: measure that exactly
+  // rather than over the sampled twists (one continuous axis, as BOP's objects have).
+  if (!object.symmetry.continuous.empty()) {
+    const Eigen::Vector3d a = object.symmetry.continuous.front().axis;
+    Symmetry discrete_only;
+    discrete_only.discrete = object.symmetry.discrete;
+    e.rotation_deg = std::numeric_limits<double>::max();
+    for (const Eigen::Isometry3d& S : discrete_only.sampled()) {
+      const double c = (T_est.linear() * a).dot(T_true.linear() * S.linear() * a);
+      e.rotation_deg = std::min(e.rotation_deg, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+    }
+  }
+  e.correct = e.add_s < 0.1 * object.diameter;
+  return e;
+}
+
+}  // namespace sgt

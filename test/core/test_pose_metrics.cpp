@@ -1,0 +1,64 @@
+// ADD, ADD-S and the symmetry-aware errors against values computed by hand.
+#include <gtest/gtest.h>
+
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+
+namespace sgt {
+namespace {
+
+Eigen::Isometry3d rotZ(double deg, const Eigen::Vector3d& t = Eigen::Vector3d::Zero()) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+// Four points on the unit circle in the xy plane: a 180 deg turn about z maps the set onto itself.
+const std::vector<Eigen::Vector3f> kCross = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+
+TEST(PoseMetrics, AddOfATranslationIsItsLength) {
+  EXPECT_NEAR(addError(kCross, rotZ(0, {0.01, 0, 0}), rotZ(0)), 0.01, 1e-7);
+  EXPECT_NEAR(addSError(kCross, rotZ(0, {0.01, 0, 0}), rotZ(0)), 0.01, 1e-7);
+}
+
+TEST(PoseMetrics, HalfTurnOfASymmetricSet) {
+  // Every point lands on its opposite: ADD = 2 (the distance to it), ADD-S = 0.
+  EXPECT_NEAR(addError(kCross, rotZ(180), rotZ(0)), 2.0, 1e-6);
+  EXPECT_NEAR(addSError(kCross, rotZ(180), rotZ(0)), 0.0, 1e-6);
+  // A quarter turn: each point lands on a neighbour at distance sqrt(2); ADD-S still 0.
+  EXPECT_NEAR(addError(kCross, rotZ(90), rotZ(0)), std::sqrt(2.0), 1e-6);
+  EXPECT_NEAR(addSError(kCross, rotZ(90), rotZ(0)), 0.0, 1e-6);
+}
+
+TEST(PoseMetrics, DiscreteSymmetryAwareErrors) {
+  ObjectClass crate;
+  crate.diameter = 2.0;
+  crate.symmetry.discrete.push_back(rotZ(180));
+  const PoseErrors e = poseErrors(crate, kCross, rotZ(183, {0, 0, 0.05}), rotZ(0));
+  EXPECT_NEAR(e.rotation_deg, 3.0, 1e-6);  // 183 deg is 3 deg from the symmetric pose
+  EXPECT_NEAR(e.translation, 0.05, 1e-9);
+  // ADD against the symmetric truth: 3 deg on the unit circle (chord 2 sin 1.5 deg) plus 5 cm up.
+  EXPECT_NEAR(e.add, std::hypot(2.0 * std::sin(1.5 * M_PI / 180.0), 0.05), 1e-6);
+  EXPECT_TRUE(e.correct);  // ADD-S ~5 cm < 10 % of 2 m
+  ObjectClass plain;
+  plain.diameter = 2.0;
+  const PoseErrors p = poseErrors(plain, kCross, rotZ(183), rotZ(0));
+  EXPECT_NEAR(p.rotation_deg, 177.0, 1e-6);
+  EXPECT_NEAR(p.add, 2.0 * std::sin(88.5 * M_PI / 180.0), 1e-6);  // chord of 177 deg
+}
+
+TEST(PoseMetrics, ContinuousSymmetryOnlyCountsTheAxisTilt) {
+  ObjectClass screwdriver;
+  screwdriver.diameter = 0.25;
+  screwdriver.symmetry.continuous.push_back({Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero()});
+  const std::vector<Eigen::Vector3f> shaft = {{-0.1f, 0.01f, 0}, {0.1f, 0, 0.01f}, {0, -0.01f, 0}, {0.05f, 0, -0.01f}};
+  Eigen::Isometry3d spun = Eigen::Isometry3d::Identity();
+  spun.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(poseErrors(screwdriver, shaft, spun, Eigen::Isometry3d::Identity()).rotation_deg, 0.0, 1e-6);
+  const PoseErrors tilted = poseErrors(screwdriver, shaft, rotZ(10) * spun, Eigen::Isometry3d::Identity());
+  EXPECT_NEAR(tilted.rotation_deg, 10.0, 1e-6);
+  EXPECT_FALSE(poseErrors(screwdriver, shaft, rotZ(0, {0.03, 0, 0}), Eigen::Isometry3d::Identity()).correct);
+}
+
+}  // namespace
+}  // namespace sgt
