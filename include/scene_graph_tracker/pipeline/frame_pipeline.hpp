@@ -1,0 +1,118 @@
+// The per-frame pipeline: localize -> associate hypotheses -> refine -> pre-segment. The offline
+// evaluator and the ROS nodelet both feed it frames; neither re-implements any step.
+//
+// Frames: measurements arrive with their sensor poses in the odom frame (odometry). The pipeline
+// keeps the map -> odom correction: it localizes the robot against the static map when a frame
+// carries a LiDAR scan (or any sensor, see options), applies the correction to every sensor, and
+// keeps it for the frames in between. Pose hypotheses (from a detector or the simulator) come in
+// the base frame, are moved into the map with the corrected robot pose, and are associated with
+// the known objects by class and distance; an unmatched hypothesis starts a new object. Every
+// known object is refined every frame from its previous pose (a hypothesis re-initialises it only
+// when its previous refinement failed); objects flagged as false hypotheses for a while are
+// dropped. (Tracks with filters and occlusion-aware pruning build on this.)
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene_graph_tracker/registration/localizer.hpp"
+#include "scene_graph_tracker/registration/object_refiner.hpp"
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+#include "scene_graph_tracker/scene/scene_graph.hpp"
+#include "scene_graph_tracker/segmentation/presegmentation.hpp"
+
+namespace sgt {
+
+struct PoseHypothesis {
+  std::string class_name;
+  Eigen::Isometry3d T_base_object = Eigen::Isometry3d::Identity();
+  double score = 1.0;
+};
+
+struct PipelineFrame {
+  double stamp = 0.0;  // seconds
+  Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();
+  // T_world_sensor of each set holds T_odom_sensor on input (odometry at the set's own stamp).
+  std::vector<RangeMeasurements> measurements;
+  std::vector<PoseHypothesis> hypotheses;
+};
+
+struct PipelineOptions {
+  RefinerOptions refiner;
+  LocalizerOptions localizer;
+  PresegmentOptions presegmentation;
+  bool localize = true;
+  bool localize_with_lidar_only = true;  // depth images near a bench add little but cost rays
+  // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise,
+  // as much as a screwdriver's radius) only when the frame has no depth image or when this is set.
+  bool refine_with_lidar = false;
+  double min_hypothesis_score = 0.3;
+  double association_distance = 0.15;  // m, hypothesis to known object of its class
+  int drop_after_failed_frames = 15;   // consecutive refinements flagged false hypothesis
+  bool run_presegmentation = true;
+  PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
+};
+
+struct KnownObject {
+  NodeId node = kNoNode;
+  std::string id;  // class + number, e.g. "klt_1"
+  std::string class_name;
+  Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
+  ObjectQuality quality;
+  double first_seen = 0.0, last_hypothesis = 0.0;
+  int failed_frames = 0;
+};
+
+struct StageTimes {
+  double localize_ms = 0, associate_ms = 0, refine_ms = 0, presegment_ms = 0, total_ms = 0;
+};
+
+struct PipelineResult {
+  double stamp = 0.0;
+  bool localized = false;
+  LocalizeResult localization;
+  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
+  std::vector<KnownObject> objects;  // after refinement
+  std::vector<std::string> dropped;  // ids removed this frame
+  std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
+  std::vector<RangeMeasurements> measurements;   // in the map frame, as used
+  StageTimes times;
+};
+
+class FramePipeline {
+ public:
+  FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::shared_ptr<const TriangleMesh> static_map,
+                const PipelineOptions& options = {});
+
+  PipelineResult process(PipelineFrame frame);
+
+  const PipelineOptions& options() const { return options_; }
+  void setOptions(const PipelineOptions& o) { options_ = o; }
+  const ObjectCatalog& catalog() const { return *catalog_; }
+  const SceneGraph& graph() const { return graph_; }
+  const RaycastScene& scene() const { return scene_; }
+  const Eigen::Isometry3d& T_map_odom() const { return T_map_odom_; }
+  void setMapOdom(const Eigen::Isometry3d& T) { T_map_odom_ = T; }
+  NodeId mapNode() const { return map_node_; }
+
+ private:
+  void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
+  NodeId addObject(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
+  void dropObject(std::size_t index, std::vector<std::string>& dropped);
+
+  std::shared_ptr<const ObjectCatalog> catalog_;
+  PipelineOptions options_;
+  RaycastScene scene_;
+  SceneGraph graph_;
+  std::map<std::string, MeshId> class_mesh_;
+  std::map<std::string, int> class_count_;
+  std::vector<KnownObject> objects_;
+  Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
+  NodeId map_node_ = kNoNode;
+};
+
+}  // namespace sgt
