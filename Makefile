@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench clean
+.PHONY: deps build test bench demo clean
 
 deps:
 	@scripts/install-deps.sh
@@ -25,6 +25,15 @@ test: build
 bench: build
 	cmake --build $(BUILD) -j$(JOBS) --target benchmarks
 	@scripts/run-benchmarks.sh $(BUILD)
+
+# Simulate the default scenario into a bag, then replay it through the pipeline and score it.
+DEMO_DIR ?= $(BUILD)/demo
+DEMO_SCENARIO ?= config/scenarios/workbench.yaml
+TOOLS := $(BUILD)/devel/lib/scene_graph_tracker
+demo: build
+	@mkdir -p $(DEMO_DIR)
+	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag
+	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) $(DEMO_EVALUATE_ARGS)
 
 clean:
 	rm -rf $(BUILD)

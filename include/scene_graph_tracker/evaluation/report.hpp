@@ -1,0 +1,52 @@
+// Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
+// report: report.json (keys documented in the README: frames, objects.*, localization.*,
+// presegmentation.*, timing.*), report.md (tables) and timeseries.csv (one row per frame and
+// object, read by scripts/plot_report.py).
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+
+namespace sgt {
+
+struct UnknownLabelCounts {
+  std::size_t tp = 0, fp = 0, fn = 0;  // "unknown" against the truth "not in the catalog or map"
+  std::size_t lidar_valid = 0, lidar_unknown = 0;
+};
+
+class EvaluationReport {
+ public:
+  void addFrame(double stamp, const StageTimes& times);
+  // One ground-truth object in one frame: its errors, or nullopt when the pipeline had no estimate.
+  void addObject(double stamp, const std::string& truth_id, const std::string& class_name,
+                 const std::optional<PoseErrors>& errors);
+  void addLocalization(double stamp, double translation_m, double rotation_deg);
+  void addPresegmentation(const UnknownLabelCounts& counts);
+
+  std::size_t frames() const { return frames_.size(); }
+  std::string json() const;
+  std::string markdown() const;
+  std::string timeseriesCsv() const;
+
+ private:
+  struct ObjectRow {
+    double stamp;
+    std::string id, class_name;
+    std::optional<PoseErrors> e;
+  };
+  struct FrameRow {
+    double stamp;
+    StageTimes times;
+    std::optional<double> loc_t, loc_r;
+  };
+  std::vector<FrameRow> frames_;
+  std::vector<ObjectRow> objects_;
+  UnknownLabelCounts labels_;
+};
+
+}  // namespace sgt

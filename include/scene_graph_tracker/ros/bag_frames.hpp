@@ -1,0 +1,80 @@
+// Reading a recorded (or simulated) bag as pipeline frames, offline and without a roscore.
+//
+// A frame is one depth image (with its camera_info) plus the newest LiDAR scan that arrived since
+// the previous frame, the pose hypotheses stamped like the image, and the odometry (odom ->
+// base_link and the sensor mounts) looked up in the bag's /tf and /tf_static at each sensor's
+// stamp. When the bag carries ground truth (the package's simulator writes it) the frame has it
+// too. Topic names are parameters; the defaults are what `simulate` writes.
+#pragma once
+
+#include <rosbag/bag.h>
+
+#include <map>
+#include <memory>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+
+namespace tf2 {
+class BufferCore;
+}
+
+namespace sgt::ros {
+
+struct BagTopics {
+  std::string depth = "/camera/depth_registered/image_raw";
+  std::string depth_info = "/camera/depth_registered/camera_info";
+  std::string lidar = "/velodyne_points";
+  std::string hypotheses = "/simulated/pose_hypotheses";
+  std::string truth_objects = "/ground_truth/objects";
+  std::string truth_base = "/ground_truth/base_pose";
+  std::string truth_depth_labels = "/ground_truth/depth_labels";
+  std::string truth_lidar_labels = "/ground_truth/velodyne_labels";
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+};
+
+// Ground-truth labels of measurements as the simulator writes them.
+enum class TruthLabel : std::uint8_t { kNone = 0, kStaticMap = 1, kObject = 2, kDistractor = 3 };
+
+struct GroundTruth {
+  struct Object {
+    std::string id, class_name;
+    Eigen::Isometry3d T_map_object;
+  };
+  std::vector<Object> objects;
+  std::optional<Eigen::Isometry3d> T_map_base;
+  std::vector<std::vector<std::uint8_t>> labels;  // per measurement set of the frame (may be empty)
+};
+
+struct BagFrame {
+  PipelineFrame frame;
+  std::optional<GroundTruth> truth;
+  std::vector<std::string> warnings;  // what was skipped while building it, and why
+};
+
+class BagFrameReader {
+ public:
+  // Opens the bag and loads its transforms; throws std::runtime_error naming what is missing.
+  explicit BagFrameReader(const std::string& path, const BagTopics& topics = {});
+  ~BagFrameReader();
+
+  std::size_t frameCount() const { return depth_count_; }
+  bool hasGroundTruth() const { return has_truth_; }
+  // The bag's own map -> odom (e.g. the simulator's odometry prior) at `stamp`, if it has one.
+  std::optional<Eigen::Isometry3d> mapToOdom(double stamp) const;
+  // Calls `f` for every frame in stamp order.
+  void forEach(const std::function<void(BagFrame&)>& f);
+
+ private:
+  std::string path_;
+  BagTopics topics_;
+  std::unique_ptr<tf2::BufferCore> tf_;
+  std::size_t depth_count_ = 0;
+  bool has_truth_ = false;
+};
+
+}  // namespace sgt::ros

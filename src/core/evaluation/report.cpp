@@ -1,0 +1,162 @@
+#include "scene_graph_tracker/evaluation/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace sgt {
+namespace {
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double pos = q * (v.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(pos);
+  const double frac = pos - i;
+  return i + 1 < v.size() ? v[i] * (1 - frac) + v[i + 1] * frac : v[i];
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / v.size();
+}
+
+std::string num(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream o;
+  o << std::setprecision(6) << x;
+  return o.str();
+}
+
+struct ObjectStats {
+  std::vector<double> add_s, add, t, r;
+  std::size_t evaluated = 0, correct = 0, missed = 0;
+  void add_row(const std::optional<PoseErrors>& e) {
+    ++evaluated;
+    if (!e) {
+      ++missed;
+      return;
+    }
+    add_s.push_back(e->add_s * 1000), add.push_back(e->add * 1000);
+    t.push_back(e->translation * 1000), r.push_back(e->rotation_deg);
+    correct += e->correct;
+  }
+  double recall() const { return evaluated ? static_cast<double>(correct) / evaluated : 0.0; }
+  std::string json(const std::string& indent) const {
+    std::ostringstream o;
+    o << indent << "\"evaluated\": " << evaluated << ",\n"
+      << indent << "\"missed\": " << missed << ",\n"
+      << indent << "\"add_s_mean_mm\": " << num(mean(add_s)) << ",\n"
+      << indent << "\"add_mean_mm\": " << num(mean(add)) << ",\n"
+      << indent << "\"recall_adds_10\": " << num(recall()) << ",\n"
+      << indent << "\"translation_error_mean_mm\": " << num(mean(t)) << ",\n"
+      << indent << "\"rotation_error_mean_deg\": " << num(mean(r));
+    return o.str();
+  }
+};
+
+}  // namespace
+
+void EvaluationReport::addFrame(double stamp, const StageTimes& times) { frames_.push_back({stamp, times, {}, {}}); }
+
+void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
+                                 const std::optional<PoseErrors>& e) {
+  objects_.push_back({stamp, id, cls, e});
+}
+
+void EvaluationReport::addLocalization(double stamp, double t, double r) {
+  if (!frames_.empty() && frames_.back().stamp == stamp) {
+    frames_.back().loc_t = t;
+    frames_.back().loc_r = r;
+  }
+}
+
+void EvaluationReport::addPresegmentation(const UnknownLabelCounts& c) {
+  labels_.tp += c.tp, labels_.fp += c.fp, labels_.fn += c.fn;
+  labels_.lidar_valid += c.lidar_valid, labels_.lidar_unknown += c.lidar_unknown;
+}
+
+std::string EvaluationReport::json() const {
+  ObjectStats all;
+  std::map<std::string, ObjectStats> per;
+  std::map<std::string, std::string> cls;
+  for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
+  std::vector<double> lt, lr, total, loc, refine, preseg;
+  for (const FrameRow& f : frames_) {
+    if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
+    total.push_back(f.times.total_ms), loc.push_back(f.times.localize_ms);
+    refine.push_back(f.times.refine_ms), preseg.push_back(f.times.presegment_ms);
+  }
+  const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
+  std::ostringstream o;
+  o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n" << all.json("    ") << ",\n    \"per_object\": {";
+  bool first = true;
+  for (const auto& [id, s] : per) {
+    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n        \"class\": \"" << cls[id] << "\",\n"
+      << s.json("        ") << "\n      }";
+    first = false;
+  }
+  o << "\n    }\n  },\n"
+    << "  \"localization\": {\n    \"frames\": " << lt.size() << ",\n    \"translation_error_mean_mm\": " << num(mean(lt))
+    << ",\n    \"rotation_error_mean_deg\": " << num(mean(lr)) << ",\n    \"translation_error_max_mm\": "
+    << num(lt.empty() ? NAN : *std::max_element(lt.begin(), lt.end())) << "\n  },\n"
+    << "  \"presegmentation\": {\n    \"reduction\": "
+    << num(labels_.lidar_valid ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid : NAN)
+    << ",\n    \"precision\": " << num(ratio(labels_.tp, labels_.tp + labels_.fp))
+    << ",\n    \"recall\": " << num(ratio(labels_.tp, labels_.tp + labels_.fn))
+    << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown
+    << "\n  },\n"
+    << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5)) << ",\n    \"frame_ms_p95\": "
+    << num(quantile(total, 0.95)) << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
+    << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5)) << ",\n    \"presegment_ms_median\": "
+    << num(quantile(preseg, 0.5)) << "\n  }\n}\n";
+  return o.str();
+}
+
+std::string EvaluationReport::markdown() const {
+  std::map<std::string, ObjectStats> per;
+  std::map<std::string, std::string> cls;
+  ObjectStats all;
+  for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(2);
+  o << "| object | class | frames | missed | ADD-S mm | ADD mm | t mm | R deg | recall ADD-S<0.1d |\n"
+    << "|---|---|---|---|---|---|---|---|---|\n";
+  const auto row = [&](const std::string& id, const std::string& c, const ObjectStats& s) {
+    o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | " << mean(s.add_s) << " | "
+      << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | " << s.recall() << " |\n";
+  };
+  for (const auto& [id, s] : per) row(id, cls[id], s);
+  row("**all**", "", all);
+  std::vector<double> lt, lr, total;
+  for (const FrameRow& f : frames_) {
+    if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
+    total.push_back(f.times.total_ms);
+  }
+  o << "\n| localization t mm | R deg | pre-seg. reduction | precision | recall | frame ms median | p95 |\n"
+    << "|---|---|---|---|---|---|---|\n| " << mean(lt) << " | " << std::setprecision(3) << mean(lr) << " | "
+    << (labels_.lidar_valid ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid : 0.0) << " | "
+    << (labels_.tp + labels_.fp ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fp) : 0.0) << " | "
+    << (labels_.tp + labels_.fn ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fn) : 0.0) << " | "
+    << std::setprecision(1) << quantile(total, 0.5) << " | " << quantile(total, 0.95) << " |\n";
+  return o.str();
+}
+
+std::string EvaluationReport::timeseriesCsv() const {
+  std::ostringstream o;
+  o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,presegment_ms,total_ms,"
+       "loc_t_mm,loc_r_deg\n";
+  for (const ObjectRow& r : objects_)
+    o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
+      << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
+      << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "") << ",,,,,,,\n";
+  for (const FrameRow& f : frames_)
+    o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms << ","
+      << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
+      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << "\n";
+  return o.str();
+}
+
+}  // namespace sgt

@@ -1,0 +1,147 @@
+// Offline evaluation: runs the tracker's per-frame pipeline over a bag (no roscore) and, when the
+// bag has ground truth, scores it.
+//   rosrun scene_graph_tracker evaluate --bag IN.bag --output DIR
+//       [--map building|FILE.urdf|FILE.stl] [--catalog objects.yaml] [--mesh-dir DIR] [--no-plots]
+// Writes DIR/report.json, DIR/report.md, DIR/timeseries.csv and DIR/*.png, prints the table.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "scene_graph_tracker/evaluation/report.hpp"
+#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/ros/bag_frames.hpp"
+#include "scene_graph_tracker/scene/static_map.hpp"
+#include "scene_graph_tracker/util/progress_bar.hpp"
+
+namespace {
+
+struct Args {
+  std::string bag, output, map = "building", catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", mesh_dir;
+  bool plots = true;
+};
+
+[[noreturn]] void usage(const std::string& error) {
+  std::cerr << "evaluate: " << error
+            << "\nusage: evaluate --bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
+               "[--no-plots]\n";
+  std::exit(2);
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(k + " needs a value");
+      return argv[++i];
+    };
+    if (k == "--bag") a.bag = value();
+    else if (k == "--output") a.output = value();
+    else if (k == "--map") a.map = value();
+    else if (k == "--catalog") a.catalog = value();
+    else if (k == "--mesh-dir") a.mesh_dir = value();
+    else if (k == "--no-plots") a.plots = false;
+    else usage("unknown argument " + k);
+  }
+  if (a.bag.empty() || a.output.empty()) usage("--bag and --output are required");
+  return a;
+}
+
+double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace sgt;
+  const Args args = parse(argc, argv);
+  try {
+    auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(args.catalog, args.mesh_dir));
+    auto map = std::make_shared<TriangleMesh>(args.map == "building" ? makeBuilding().mesh : loadStaticMap(args.map));
+    sgt::ros::BagFrameReader reader(args.bag);
+    FramePipeline pipeline(catalog, map);
+    std::map<std::string, std::vector<Eigen::Vector3f>> model_points;
+    for (const std::string& c : catalog->names()) model_points[c] = sampleSurface(*catalog->get(c).mesh, 500, 1).points;
+
+    EvaluationReport report;
+    ProgressBar progress("evaluate", reader.frameCount());
+    std::size_t done = 0, warnings = 0;
+    bool first = true;
+    reader.forEach([&](sgt::ros::BagFrame& bf) {
+      for (const std::string& w : bf.warnings) std::cerr << "\nwarning: " << w << "\n", ++warnings;
+      if (first) {  // start from the bag's own map -> odom prior when it has one
+        if (const auto T = reader.mapToOdom(bf.frame.stamp)) pipeline.setMapOdom(*T);
+        first = false;
+      }
+      const PipelineResult r = pipeline.process(bf.frame);
+      report.addFrame(r.stamp, r.times);
+      if (bf.truth) {
+        const sgt::ros::GroundTruth& gt = *bf.truth;
+        if (gt.T_map_base)
+          report.addLocalization(r.stamp, (r.T_map_base.translation() - gt.T_map_base->translation()).norm(),
+                                 angleDeg(r.T_map_base.linear(), gt.T_map_base->linear()));
+        // Each true object against the nearest estimate of its class (each estimate used once),
+        // from the first frame the pipeline knows an object of that class.
+        std::vector<char> used(r.objects.size(), 0);
+        for (const auto& t : gt.objects) {
+          if (!catalog->contains(t.class_name)) continue;
+          bool class_known = false;
+          std::size_t best = r.objects.size();
+          double best_d = 1e9;
+          for (std::size_t k = 0; k < r.objects.size(); ++k) {
+            if (r.objects[k].class_name != t.class_name) continue;
+            class_known = true;
+            const double d = (r.objects[k].T_map_object.translation() - t.T_map_object.translation()).norm();
+            if (!used[k] && d < best_d) best_d = d, best = k;
+          }
+          if (!class_known) continue;
+          std::optional<PoseErrors> e;
+          if (best < r.objects.size()) {
+            used[best] = 1;
+            e = poseErrors(catalog->get(t.class_name), model_points[t.class_name], r.objects[best].T_map_object,
+                           t.T_map_object);
+          }
+          report.addObject(r.stamp, t.id, t.class_name, e);
+        }
+        UnknownLabelCounts counts;
+        for (std::size_t s = 0; s < r.presegmentation.size() && s < gt.labels.size(); ++s) {
+          const auto& labels = gt.labels[s];
+          const auto& p = r.presegmentation[s];
+          if (labels.size() != p.label.size()) continue;
+          const bool lidar = std::holds_alternative<SpinningLidarModel>(r.measurements[s].model);
+          for (std::size_t i = 0; i < labels.size(); ++i) {
+            if (p.label[i] == PointLabel::kInvalid) continue;
+            const bool truth_unknown = labels[i] == static_cast<std::uint8_t>(sgt::ros::TruthLabel::kDistractor);
+            const bool said_unknown = p.label[i] == PointLabel::kUnknown;
+            counts.tp += truth_unknown && said_unknown, counts.fp += !truth_unknown && said_unknown;
+            counts.fn += truth_unknown && !said_unknown;
+            if (lidar) ++counts.lidar_valid, counts.lidar_unknown += said_unknown;
+          }
+        }
+        report.addPresegmentation(counts);
+      }
+      progress.update(++done);
+    });
+    progress.finish();
+
+    std::filesystem::create_directories(args.output);
+    std::ofstream(args.output + "/report.json") << report.json();
+    std::ofstream(args.output + "/report.md") << report.markdown();
+    std::ofstream(args.output + "/timeseries.csv") << report.timeseriesCsv();
+    if (args.plots) {
+      const std::string cmd = "/usr/bin/python3 " + std::string(SGT_SOURCE_DIR) + "/scripts/plot_report.py '" +
+                              args.output + "'";
+      if (std::system(cmd.c_str()) != 0) std::cerr << "warning: plotting failed (" << cmd << ")\n";
+    }
+    std::cout << report.markdown() << "\n"
+              << report.frames() << " frames" << (reader.hasGroundTruth() ? "" : " (the bag has no ground truth)")
+              << ", " << warnings << " warnings. Report: " << args.output << "/report.json, report.md; plots: "
+              << args.output << "/*.png\n";
+  } catch (const std::exception& e) {
+    std::cerr << "evaluate: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
