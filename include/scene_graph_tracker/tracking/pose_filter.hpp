@@ -1,0 +1,54 @@
+// Kalman filter on an object's pose: constant linear and angular velocity, orientation kept as a
+// rotation matrix with a 3-vector error state (error-state / multiplicative EKF), so the filter
+// never meets the singularities of Euler angles. State error [dp, dv, dtheta, dw] (12), world
+// frame, dtheta perturbing the rotation on the left: R_true = Exp(dtheta) R.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+
+namespace sgt {
+
+struct PoseFilterNoise {
+  double accel = 0.2;          // m/s^2, white-noise acceleration (a hand moving an object)
+  double angular_accel = 0.2;  // rad/s^2 (higher makes the turn rate follow pose noise)
+  double initial_velocity = 0.2, initial_angular_velocity = 0.5;  // 1 sigma of the unknown start
+};
+
+class PoseFilter {
+ public:
+  using Mat12 = Eigen::Matrix<double, 12, 12>;
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+  PoseFilter(const Eigen::Isometry3d& T, const Mat6& pose_covariance, const PoseFilterNoise& noise = {});
+
+  void predict(double dt);
+  // A measured pose with its covariance ([translation, rotation] in the world frame). With a
+  // symmetry, the symmetric twin of the measurement closest to the prediction is used, so a
+  // crate seen turned by 180 deg does not spin the filter. Returns the squared Mahalanobis
+  // distance of the innovation.
+  double update(const Eigen::Isometry3d& T_measured, const Mat6& covariance, const Symmetry* symmetry = nullptr);
+  // Squared Mahalanobis distance of a pose from the prediction, without updating.
+  double distance2(const Eigen::Isometry3d& T, const Mat6& covariance, const Symmetry* symmetry = nullptr) const;
+
+  Eigen::Isometry3d pose() const;
+  const Eigen::Vector3d& velocity() const { return v_; }
+  const Eigen::Vector3d& angularVelocity() const { return w_; }
+  const Mat12& covariance() const { return P_; }
+  Mat6 poseCovariance() const;
+
+ private:
+  Eigen::Matrix<double, 6, 1> innovation(const Eigen::Isometry3d& T_measured, const Symmetry* symmetry) const;
+
+  Eigen::Vector3d p_, v_ = Eigen::Vector3d::Zero(), w_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R_;
+  Mat12 P_;
+  PoseFilterNoise noise_;
+};
+
+// Rotation vector of R (log map) and its inverse.
+Eigen::Vector3d logSO3(const Eigen::Matrix3d& R);
+Eigen::Matrix3d expSO3(const Eigen::Vector3d& w);
+
+}  // namespace sgt
