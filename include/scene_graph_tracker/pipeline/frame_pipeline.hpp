@@ -5,11 +5,14 @@
 // keeps the map -> odom correction: it localizes the robot against the static map when a frame
 // carries a LiDAR scan (or any sensor, see options), applies the correction to every sensor, and
 // keeps it for the frames in between. Pose hypotheses (from a detector or the simulator) come in
-// the base frame, are moved into the map with the corrected robot pose, and are associated with
-// the known objects by class and distance; an unmatched hypothesis starts a new object. Every
-// known object is refined every frame from its previous pose (a hypothesis re-initialises it only
-// when its previous refinement failed); objects flagged as false hypotheses for a while are
-// dropped. (Tracks with filters and occlusion-aware pruning build on this.)
+// the base frame, are moved into the map with the corrected robot pose, and are assigned to the
+// tracks of their class (Hungarian, gated by distance to the prediction); an unmatched hypothesis
+// starts a tentative track. Every track is predicted by its Kalman filter (constant velocity),
+// refined from the prediction, and updated with the refined pose when the refinement is good
+// (otherwise it coasts on the prediction; a hypothesis re-initialises a track whose refinement
+// failed). A track is removed only on evidence of absence: it should show points (its rays
+// are not blocked by anything closer, known or unknown) yet gets no correspondences for
+// remove_after_s; an occluded or out-of-view track just coasts.
 #pragma once
 
 #include <map>
@@ -23,6 +26,7 @@
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/scene/scene_graph.hpp"
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
+#include "scene_graph_tracker/tracking/pose_filter.hpp"
 
 namespace sgt {
 
@@ -44,26 +48,37 @@ struct PipelineOptions {
   RefinerOptions refiner;
   LocalizerOptions localizer;
   PresegmentOptions presegmentation;
+  PoseFilterNoise motion;
   bool localize = true;
   bool localize_with_lidar_only = true;  // depth images near a bench add little but cost rays
   // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise,
   // as much as a screwdriver's radius) only when the frame has no depth image or when this is set.
   bool refine_with_lidar = false;
   double min_hypothesis_score = 0.3;
-  double association_distance = 0.15;  // m, hypothesis to known object of its class
-  int drop_after_failed_frames = 15;   // consecutive refinements flagged false hypothesis
+  double association_distance = 0.15;  // m, hypothesis to a track's prediction (same class)
+  double reacquire_distance = 0.6;     // m, for tracks that are not currently refined well
+  int confirm_hits = 3;                // good refinements that confirm a tentative track
+  double remove_after_s = 1.0;         // evidence of absence for this long removes a track
+  double remove_tentative_after_s = 0.3;
+  double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
+  double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   bool run_presegmentation = true;
   PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
 };
 
-struct KnownObject {
+enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
+const char* toString(TrackState s);
+
+struct TrackedObject {
   NodeId node = kNoNode;
-  std::string id;  // class + number, e.g. "klt_1"
+  std::string id;  // class + number, e.g. "klt_1"; never reused
   std::string class_name;
   Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
-  ObjectQuality quality;
-  double first_seen = 0.0, last_hypothesis = 0.0;
-  int failed_frames = 0;
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();  // [t, R] of the filter
+  TrackState state = TrackState::kTentative;
+  ObjectQuality quality;  // of this frame's refinement
+  double first_seen = 0.0, last_refined = 0.0, last_hypothesis = 0.0;
+  int hits = 0;
 };
 
 struct StageTimes {
@@ -76,8 +91,8 @@ struct PipelineResult {
   LocalizeResult localization;
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
-  std::vector<KnownObject> objects;  // after refinement
-  std::vector<std::string> dropped;  // ids removed this frame
+  std::vector<TrackedObject> objects;  // after refinement (removed tracks are not listed)
+  std::vector<std::string> dropped;    // ids removed this frame
   std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
   std::vector<RangeMeasurements> measurements;   // in the map frame, as used
   StageTimes times;
@@ -100,9 +115,15 @@ class FramePipeline {
   NodeId mapNode() const { return map_node_; }
 
  private:
+  struct Track {
+    TrackedObject out;
+    PoseFilter filter;
+    double absent_since = -1.0;  // < 0: no evidence of absence
+  };
+  void predict(double stamp);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
-  NodeId addObject(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
-  void dropObject(std::size_t index, std::vector<std::string>& dropped);
+  void addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
+  void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
 
   std::shared_ptr<const ObjectCatalog> catalog_;
   PipelineOptions options_;
@@ -110,7 +131,8 @@ class FramePipeline {
   SceneGraph graph_;
   std::map<std::string, MeshId> class_mesh_;
   std::map<std::string, int> class_count_;
-  std::vector<KnownObject> objects_;
+  std::vector<Track> tracks_;
+  double last_stamp_ = -1.0;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   NodeId map_node_ = kNoNode;
 };

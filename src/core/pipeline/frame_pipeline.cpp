@@ -4,13 +4,31 @@
 #include <chrono>
 #include <limits>
 
+#include "scene_graph_tracker/tracking/assignment.hpp"
+
 namespace sgt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad) {
+  PoseFilter::Mat6 C = PoseFilter::Mat6::Zero();
+  C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
+  return C;
+}
+
 }  // namespace
+
+const char* toString(TrackState s) {
+  switch (s) {
+    case TrackState::kTentative: return "tentative";
+    case TrackState::kConfirmed: return "confirmed";
+    case TrackState::kLost: return "lost";
+    case TrackState::kRemoved: return "removed";
+  }
+  return "?";
+}
 
 FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::shared_ptr<const TriangleMesh> static_map,
                              const PipelineOptions& options)
@@ -21,57 +39,97 @@ FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::
   scene_.commit();
 }
 
-NodeId FramePipeline::addObject(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp) {
-  KnownObject o;
+void FramePipeline::addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp) {
+  const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  Track t{TrackedObject{}, PoseFilter(T_map_object, C, options_.motion)};
+  TrackedObject& o = t.out;
   o.class_name = class_name;
   o.id = class_name + "_" + std::to_string(++class_count_[class_name]);
   o.node = graph_.add(o.id, class_name, kWorldNode, T_map_object);
   o.T_map_object = T_map_object;
+  o.covariance = C;
   o.first_seen = o.last_hypothesis = stamp;
   scene_.addInstance(o.node, class_mesh_.at(class_name), T_map_object);
-  objects_.push_back(o);
-  return o.node;
+  tracks_.push_back(std::move(t));
 }
 
-void FramePipeline::dropObject(std::size_t index, std::vector<std::string>& dropped) {
-  dropped.push_back(objects_[index].id);
-  scene_.removeInstance(objects_[index].node);
-  graph_.remove(objects_[index].node);
-  objects_.erase(objects_.begin() + static_cast<std::ptrdiff_t>(index));
+void FramePipeline::predict(double stamp) {
+  const double dt = last_stamp_ >= 0.0 ? stamp - last_stamp_ : 0.0;
+  last_stamp_ = stamp;
+  for (Track& t : tracks_) {
+    if (dt > 0.0) t.filter.predict(dt);
+    t.out.T_map_object = t.filter.pose();
+    scene_.setInstancePose(t.out.node, t.out.T_map_object);
+  }
 }
 
 void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
                               double stamp) {
-  // Greedy by distance over (hypothesis, object) pairs of one class: each object takes at most
-  // one hypothesis per frame.
-  struct Candidate {
-    double distance;
-    std::size_t hypothesis, object;
-  };
-  std::vector<Candidate> candidates;
+  const double forbidden = std::numeric_limits<double>::max();
+  Eigen::MatrixXd cost(hypotheses.size(), tracks_.size());
   std::vector<Eigen::Isometry3d> in_map(hypotheses.size());
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     in_map[h] = T_map_base * hypotheses[h].T_base_object;
-    for (std::size_t k = 0; k < objects_.size(); ++k) {
-      if (objects_[k].class_name != hypotheses[h].class_name) continue;
-      const double d = (objects_[k].T_map_object.translation() - in_map[h].translation()).norm();
-      if (d < options_.association_distance) candidates.push_back({d, h, k});
+    for (std::size_t k = 0; k < tracks_.size(); ++k) {
+      const TrackedObject& o = tracks_[k].out;
+      const double d = (o.T_map_object.translation() - in_map[h].translation()).norm();
+      const double gate = o.quality.status == RefineStatus::kOk ? options_.association_distance : options_.reacquire_distance;
+      cost(h, k) = o.class_name == hypotheses[h].class_name && d < gate ? d : forbidden;
     }
   }
-  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.distance < b.distance; });
-  std::vector<char> hyp_used(hypotheses.size(), 0), obj_used(objects_.size(), 0);
-  for (const Candidate& c : candidates) {
-    if (hyp_used[c.hypothesis] || obj_used[c.object]) continue;
-    hyp_used[c.hypothesis] = obj_used[c.object] = 1;
-    KnownObject& o = objects_[c.object];
-    o.last_hypothesis = stamp;
-    if (o.quality.status != RefineStatus::kOk) {  // lost its fit: start again from the detection
-      o.T_map_object = in_map[c.hypothesis];
-      scene_.setInstancePose(o.node, o.T_map_object);
+  const std::vector<int> match = assignMinCost(cost, forbidden);
+  const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  for (std::size_t h = 0; h < hypotheses.size(); ++h) {
+    if (match[h] < 0) {
+      addTrack(hypotheses[h].class_name, in_map[h], stamp);
+      continue;
+    }
+    Track& t = tracks_[match[h]];
+    t.out.last_hypothesis = stamp;
+    if (t.out.quality.status != RefineStatus::kOk) {  // lost its fit: start again from the detection
+      t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
+      t.out.T_map_object = in_map[h];
+      scene_.setInstancePose(t.out.node, in_map[h]);
     }
   }
-  for (std::size_t h = 0; h < hypotheses.size(); ++h)
-    if (!hyp_used[h]) addObject(hypotheses[h].class_name, in_map[h], stamp);
+}
+
+void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped) {
+  const auto C = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    Track& t = tracks_[k];
+    TrackedObject& o = t.out;
+    o.quality = r.objects[k].quality;
+    if (o.quality.status == RefineStatus::kOk) {
+      t.filter.update(r.objects[k].T_world_object, C, &catalog_->get(o.class_name).symmetry);
+      o.T_map_object = r.objects[k].T_world_object;  // the measurement, not the smoothed pose
+      o.last_refined = stamp;
+      t.absent_since = -1.0;
+      if (++o.hits >= options_.confirm_hits || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
+    } else {
+      // Coast on the prediction. Absence evidence: the object should show points (rays reach
+      // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
+      o.T_map_object = t.filter.pose();
+      const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
+      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate;
+      if (absent && t.absent_since < 0.0) t.absent_since = stamp;
+      if (!absent) t.absent_since = -1.0;
+      if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
+    }
+    o.covariance = t.filter.poseCovariance();
+    scene_.setInstancePose(o.node, o.T_map_object);
+    graph_.setWorldTransform(o.node, o.T_map_object);
+  }
+  for (std::size_t k = tracks_.size(); k-- > 0;) {
+    Track& t = tracks_[k];
+    const double limit =
+        t.out.state == TrackState::kTentative ? options_.remove_tentative_after_s : options_.remove_after_s;
+    if (t.absent_since < 0.0 || stamp - t.absent_since < limit) continue;
+    dropped.push_back(t.out.id);
+    scene_.removeInstance(t.out.node);
+    graph_.remove(t.out.node);
+    tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(k));
+  }
 }
 
 PipelineResult FramePipeline::process(PipelineFrame frame) {
@@ -101,8 +159,9 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   out.T_map_base = T_map_odom_ * frame.T_odom_base;
   out.times.localize_ms = msSince(t0);
 
-  // 2. Hypotheses -> known objects.
+  // 2. Predict the tracks to this frame and assign the hypotheses to them.
   t0 = Clock::now();
+  predict(frame.stamp);
   std::vector<PoseHypothesis> accepted;
   for (const PoseHypothesis& h : frame.hypotheses)
     if (h.score >= options_.min_hypothesis_score && catalog_->contains(h.class_name)) accepted.push_back(h);
@@ -110,40 +169,30 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   scene_.commit();
   out.times.associate_ms = msSince(t0);
 
-  // 3. Refine every known object against all measurements of the frame.
+  // 3. Refine every track from its prediction, then update the filters and the track states.
   t0 = Clock::now();
-  std::vector<RefineTarget> targets;
-  for (const KnownObject& o : objects_) targets.push_back({o.node, &catalog_->get(o.class_name).symmetry});
   std::vector<RangeMeasurements> for_objects;
   const bool has_depth = std::any_of(sets.begin(), sets.end(), [](const RangeMeasurements& m) {
     return std::holds_alternative<PinholeModel>(m.model);
   });
   for (const RangeMeasurements& m : sets)
     if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model)) for_objects.push_back(m);
-  if (!targets.empty() && !for_objects.empty()) {
-    const ObjectRefiner refiner(options_.refiner);
-    const RefineResult r = refiner.refine(scene_, targets, for_objects);
-    for (std::size_t k = 0; k < objects_.size(); ++k) {
-      KnownObject& o = objects_[k];
-      o.quality = r.objects[k].quality;
-      o.T_map_object = r.objects[k].T_world_object;
-      graph_.setWorldTransform(o.node, o.T_map_object);
-      const bool failed = o.quality.status == RefineStatus::kFalseHypothesis;
-      o.failed_frames = failed ? o.failed_frames + 1 : 0;
-    }
-    for (std::size_t k = objects_.size(); k-- > 0;)
-      if (objects_[k].failed_frames >= options_.drop_after_failed_frames) dropObject(k, out.dropped);
+  if (!tracks_.empty() && !for_objects.empty()) {
+    std::vector<RefineTarget> targets;
+    for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});
+    const RefineResult r = ObjectRefiner(options_.refiner).refine(scene_, targets, for_objects);
+    updateTracks(r, frame.stamp, out.dropped);
     scene_.commit();
   }
   out.times.refine_ms = msSince(t0);
 
-  // 4. Pre-segment every measurement against the map and the refined objects.
+  // 4. Pre-segment every measurement against the map and the tracked objects.
   t0 = Clock::now();
   if (options_.run_presegmentation)
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
   out.times.presegment_ms = msSince(t0);
 
-  out.objects = objects_;
+  for (const Track& t : tracks_) out.objects.push_back(t.out);
   out.measurements = std::move(sets);
   out.times.total_ms = msSince(t_frame);
   return out;
