@@ -98,12 +98,14 @@ int main(int argc, char** argv) {
           }
           if (!class_known) continue;
           std::optional<PoseErrors> e;
+          std::string track;
           if (best < r.objects.size()) {
+            track = r.objects[best].id;
             used[best] = 1;
             e = poseErrors(catalog->get(t.class_name), model_points[t.class_name], r.objects[best].T_map_object,
                            t.T_map_object);
           }
-          report.addObject(r.stamp, t.id, t.class_name, e);
+          report.addObject(r.stamp, t.id, t.class_name, track, e);
         }
         UnknownLabelCounts counts;
         for (std::size_t s = 0; s < r.presegmentation.size() && s < gt.labels.size(); ++s) {

@@ -22,9 +22,10 @@ struct UnknownLabelCounts {
 class EvaluationReport {
  public:
   void addFrame(double stamp, const StageTimes& times);
-  // One ground-truth object in one frame: its errors, or nullopt when the pipeline had no estimate.
+  // One ground-truth object in one frame: the track matched to it and its errors, or nullopt when
+  // the pipeline had no estimate. A change of the matched track id is an identity switch.
   void addObject(double stamp, const std::string& truth_id, const std::string& class_name,
-                 const std::optional<PoseErrors>& errors);
+                 const std::string& track_id, const std::optional<PoseErrors>& errors);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
 
@@ -47,6 +48,8 @@ class EvaluationReport {
   std::vector<FrameRow> frames_;
   std::vector<ObjectRow> objects_;
   UnknownLabelCounts labels_;
+  std::map<std::string, std::string> last_track_;  // truth id -> last matched track id
+  std::map<std::string, int> switches_;
 };
 
 }  // namespace sgt

@@ -61,9 +61,13 @@ struct ObjectStats {
 
 void EvaluationReport::addFrame(double stamp, const StageTimes& times) { frames_.push_back({stamp, times, {}, {}}); }
 
-void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
+void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls, const std::string& track,
                                  const std::optional<PoseErrors>& e) {
   objects_.push_back({stamp, id, cls, e});
+  if (track.empty()) return;
+  std::string& last = last_track_[id];
+  if (!last.empty() && last != track) ++switches_[id];
+  last = track;
 }
 
 void EvaluationReport::addLocalization(double stamp, double t, double r) {
@@ -91,11 +95,16 @@ std::string EvaluationReport::json() const {
   }
   const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
   std::ostringstream o;
-  o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n" << all.json("    ") << ",\n    \"per_object\": {";
+  int switches = 0;
+  for (const auto& [id, n] : switches_) switches += n;
+  o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n" << all.json("    ")
+    << ",\n    \"identity_switches\": " << switches << ",\n    \"per_object\": {";
   bool first = true;
   for (const auto& [id, s] : per) {
+    const auto sw = switches_.find(id);
     o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n        \"class\": \"" << cls[id] << "\",\n"
-      << s.json("        ") << "\n      }";
+      << "        \"identity_switches\": " << (sw == switches_.end() ? 0 : sw->second) << ",\n" << s.json("        ")
+      << "\n      }";
     first = false;
   }
   o << "\n    }\n  },\n"

@@ -1,0 +1,53 @@
+// The evaluation report: the keys other tools read, means and recall computed by hand, identity
+// switches, and the pre-segmentation ratios.
+#include <gtest/gtest.h>
+
+#include "scene_graph_tracker/evaluation/report.hpp"
+
+namespace sgt {
+namespace {
+
+PoseErrors errors(double add_s_m, double add_m, bool correct) {
+  PoseErrors e;
+  e.add_s = add_s_m, e.add = add_m, e.translation = add_m, e.rotation_deg = 1.0, e.correct = correct;
+  return e;
+}
+
+bool has(const std::string& json, const std::string& text) { return json.find(text) != std::string::npos; }
+
+TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
+  EvaluationReport r;
+  StageTimes t;
+  for (int f = 0; f < 4; ++f) {
+    t.total_ms = 10.0 + f;  // 10, 11, 12, 13: median 11.5
+    r.addFrame(f, t);
+    r.addLocalization(f, 0.004, 0.1);
+  }
+  r.addObject(0, "klt_1", "klt", "klt_1", errors(0.002, 0.003, true));
+  r.addObject(1, "klt_1", "klt", "klt_1", errors(0.004, 0.005, true));
+  r.addObject(2, "klt_1", "klt", "", std::nullopt);                       // missed: counts against recall
+  r.addObject(3, "klt_1", "klt", "klt_2", errors(0.030, 0.040, false));  // another track: a switch
+  UnknownLabelCounts c;
+  c.tp = 90, c.fp = 10, c.fn = 10, c.lidar_valid = 1000, c.lidar_unknown = 140;
+  r.addPresegmentation(c);
+  const std::string j = r.json();
+  EXPECT_TRUE(has(j, "\"frames\": 4"));
+  EXPECT_TRUE(has(j, "\"add_s_mean_mm\": 12")) << j;  // (2 + 4 + 30) / 3
+  EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;    // (3 + 5 + 40) / 3
+  EXPECT_TRUE(has(j, "\"recall_adds_10\": 0.5")) << j;  // 2 correct of 4 evaluated
+  EXPECT_TRUE(has(j, "\"missed\": 1"));
+  EXPECT_TRUE(has(j, "\"identity_switches\": 1"));
+  EXPECT_TRUE(has(j, "\"translation_error_mean_mm\": 4"));  // localization: 4 mm every frame
+  EXPECT_TRUE(has(j, "\"reduction\": 0.86"));
+  EXPECT_TRUE(has(j, "\"precision\": 0.9"));
+  EXPECT_TRUE(has(j, "\"recall\": 0.9"));
+  EXPECT_TRUE(has(j, "\"frame_ms_median\": 11.5"));
+  for (const char* key : {"\"objects\"", "\"rotation_error_mean_deg\"", "\"per_object\"", "\"localization\"",
+                          "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
+    EXPECT_TRUE(has(j, key)) << key;
+  EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 |"));
+  EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
+}
+
+}  // namespace
+}  // namespace sgt
