@@ -133,28 +133,27 @@ TEST(ObjectRefiner, UmeyamaPointToPlaneConvergesGivenEnoughSteps) {
 TEST(ObjectRefiner, FiveObjectsOccludingEachOther) {
   // Seen from the camera (at +y, looking toward -y), the relay and screwdriver stand in front of
   // the KLT and the multimeter in front of the material box: the hidden ones are refined from
-  // what is visible of them. Initial error 1.5 cm / 5 deg. KNOWN LIMITATION (issue 3 open): the
-  // small relay and screwdriver do not yet converge from there (relay flips ~90 deg about its
-  // vertical axis, screwdriver ends ~1 cm off), so they are only checked not to be rejected.
-  Bench b;
-  b.add("klt", 0.0, -0.2, 0.0, 10);
-  b.add("relay", 0.05, 0.0, 0.3, 11);
-  b.add("screwdriver", -0.12, 0.02, 0.2, 12);
-  b.add("materialbox", 0.4, -0.15, 0.1, 13);
-  b.add("multimeter", 0.38, 0.05, -0.1, 14);
-  const RangeMeasurements m = b.measure(5);
-  b.perturbAll(0.015, 5.0, 5);
-  const RefineResult r = ObjectRefiner().refine(b.scene, b.targets, {m});
-  for (std::size_t k = 0; k < r.objects.size(); ++k) {
-    const auto& e = r.objects[k];
-    EXPECT_NE(e.quality.status, RefineStatus::kFalseHypothesis) << e.node;
-    if (e.node == 11 || e.node == 12) continue;
-    EXPECT_EQ(e.quality.status, RefineStatus::kOk) << e.node << " " << toString(e.quality.status);
-    EXPECT_LT(translationError(e, b.truth[k].second), kMaxTransErr) << "node " << e.node;
-    double rot = 1e9;  // symmetry-aware: the KLT's 180 deg turn and the screwdriver's axis
-    for (const auto& S : b.targets[k].symmetry->sampled(M_PI / 180.0))
-      rot = std::min(rot, test::rotationErrorDeg(e.T_world_object.linear(), (b.truth[k].second * S).linear()));
-    EXPECT_LT(rot, kMaxRotErrDeg) << "node " << e.node;
+  // what is visible of them. Initial error 3 cm / 10 deg: beyond the thin screwdriver's radius,
+  // so it converges only through the pull pairs of its unexplained points.
+  for (std::uint32_t seed : {5u, 6u, 7u}) {
+    Bench b;
+    b.add("klt", 0.0, -0.2, 0.0, 10);
+    b.add("relay", 0.05, 0.0, 0.3, 11);
+    b.add("screwdriver", -0.12, 0.02, 0.2, 12);
+    b.add("materialbox", 0.4, -0.15, 0.1, 13);
+    b.add("multimeter", 0.38, 0.05, -0.1, 14);
+    const RangeMeasurements m = b.measure(seed);
+    b.perturbAll(0.03, 10.0, seed);
+    const RefineResult r = ObjectRefiner().refine(b.scene, b.targets, {m});
+    for (std::size_t k = 0; k < r.objects.size(); ++k) {
+      const auto& e = r.objects[k];
+      EXPECT_EQ(e.quality.status, RefineStatus::kOk) << e.node << " " << toString(e.quality.status);
+      EXPECT_LT(translationError(e, b.truth[k].second), kMaxTransErr) << "node " << e.node << " seed " << seed;
+      double rot = 1e9;  // symmetry-aware: the KLT's 180 deg turn and the screwdriver's axis
+      for (const auto& S : b.targets[k].symmetry->sampled(M_PI / 180.0))
+        rot = std::min(rot, test::rotationErrorDeg(e.T_world_object.linear(), (b.truth[k].second * S).linear()));
+      EXPECT_LT(rot, kMaxRotErrDeg) << "node " << e.node << " seed " << seed;
+    }
   }
 }
 

@@ -214,5 +214,18 @@ TEST(RaycastScene, WorldRaysHitLikeSensorRays) {
   }
 }
 
+TEST(RaycastScene, ClosestPointOnAMeshWithinARadius) {
+  RaycastScene scene;
+  const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.4f, 0.6f})));
+  SurfacePoint sp;
+  ASSERT_TRUE(scene.closestPoint(box, {0.15f, 0.05f, 0.1f}, 0.1f, sp));  // 5 cm outside the +x face
+  EXPECT_TRUE(sp.point.isApprox(Eigen::Vector3f(0.1f, 0.05f, 0.1f), 1e-5f));
+  EXPECT_NEAR(sp.distance, 0.05f, 1e-5f);
+  EXPECT_NEAR(std::abs(sp.normal.x()), 1.0f, 1e-5f);
+  ASSERT_TRUE(scene.closestPoint(box, {0.0f, 0.0f, 0.28f}, 0.1f, sp));  // inside, 2 cm below the top
+  EXPECT_NEAR(sp.point.z(), 0.3f, 1e-5f);
+  EXPECT_FALSE(scene.closestPoint(box, {0.5f, 0.0f, 0.0f}, 0.1f, sp));  // 40 cm away: beyond the radius
+}
+
 }  // namespace
 }  // namespace sgt

@@ -91,6 +91,13 @@ struct WorldRay {
   float far;                  // the ray ends here (m)
 };
 
+// The point of a mesh's surface closest to a query point, in the mesh's own frame.
+struct SurfacePoint {
+  Eigen::Vector3f point;
+  Eigen::Vector3f normal;  // unit face normal of the triangle (its winding's side)
+  float distance;
+};
+
 struct RaycastSceneOptions {
   // Build quality of each mesh's BVH, built once per mesh: 0 low, 1 medium, 2 high.
   int object_build_quality = 2;
@@ -133,6 +140,10 @@ class RaycastScene {
             const TileSet* tiles = nullptr, const CastLimit& limit = {}) const;
   // Casts world-frame rays; `hits` becomes a rays.size() x 1 grid.
   void cast(const std::vector<WorldRay>& rays, RayHits& hits) const;
+
+  // Closest point of mesh `mesh` (in its own frame) to `p` no farther than `radius`, by an
+  // Embree point query on the mesh's BVH; false when there is none. Thread-safe.
+  bool closestPoint(MeshId mesh, const Eigen::Vector3f& p, float radius, SurfacePoint& out) const;
 
  private:
   struct Slot {

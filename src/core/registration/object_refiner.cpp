@@ -6,6 +6,7 @@
 
 #include "scene_graph_tracker/registration/ray_correspondences.hpp"
 #include "scene_graph_tracker/registration/ray_regions.hpp"
+#include "scene_graph_tracker/registration/unexplained_pairs.hpp"
 
 namespace sgt {
 
@@ -43,6 +44,33 @@ Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start, const 
   return T_start * rel;
 }
 
+// Scales the update `delta` (object frame) along its screw so that no corner of `box` moves by
+// more than `limit`: a few near-degenerate pairs (a thin object's sliver) can otherwise produce
+// an arbitrarily large step that no pair of the round supports.
+Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::AlignedBox3f& box, double limit) {
+  double largest = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p = box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
+    largest = std::max(largest, (delta * p - p).norm());
+  }
+  if (largest <= limit) return delta;
+  const double f = limit / largest;
+  const Eigen::AngleAxisd aa(delta.linear());
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::AngleAxisd(aa.angle() * f, aa.axis()).toRotationMatrix();
+  out.translation() = delta.translation() * f;
+  return out;
+}
+
+// A point-to-point pair as three point-to-plane rows along orthonormal axes (the linear step sums
+// squared plane residuals, so the three rows sum to the squared distance).
+void appendPointToPoint(RayPair p, std::vector<RayPair>& out) {
+  for (int a = 0; a < 3; ++a) {
+    p.normal = Eigen::Vector3f::Unit(a);
+    out.push_back(p);
+  }
+}
+
 float thresholdOfRound(const RefinerOptions& o, int round) {
   if (o.rounds <= 1) return o.max_dist_last;
   const float f = static_cast<float>(round) / static_cast<float>(o.rounds - 1);
@@ -59,9 +87,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   for (std::size_t s = 0; s < measurements.size(); ++s) result.assignment[s].assign(measurements[s].size(), kNoNode);
   NodeGroups groups;
   std::vector<ObjectExtent> extents(n_obj);
+  std::vector<MeshId> meshes(n_obj);
   for (int k = 0; k < n_obj; ++k) {
     groups.set(targets[k].node, k);
-    extents[k].box = scene.mesh(scene.instanceMesh(targets[k].node)).boundingBox();
+    meshes[k] = scene.instanceMesh(targets[k].node);
+    extents[k].box = scene.mesh(meshes[k]).boundingBox();
     extents[k].T_world_object = scene.instancePose(targets[k].node);
     result.objects.push_back({targets[k].node, extents[k].T_world_object, {}});
   }
@@ -89,7 +119,16 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         pairs[k].insert(pairs[k].end(), last_pairs[s][k].begin(), last_pairs[s][k].end());
         expected[k] += stats.expected[k];
       }
+      if (options_.pull_radius > 0.0f) {
+        const UnexplainedPairing pulling{max_dist, options_.pull_front_margin, options_.roi_margin, options_.pull_radius};
+        const auto pulls = collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
+        const bool point_to_point = round < options_.pull_point_to_point_rounds;
+        for (int k = 0; k < n_obj; ++k)
+          for (const RayPair& p : pulls[k]) point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
+      }
     }
+    // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
+    const double step_limit = std::max(max_dist, options_.pull_radius);
     // 2. Per object, Umeyama steps over the round's pairs in the object's round-start frame.
     tbb::parallel_for(0, n_obj, [&](int k) {
       ObjectQuality& q = result.objects[k].quality;
@@ -107,7 +146,9 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
                                               options_.step_tolerance, options_.alignment);
       q.last_alignment = a.status;
       if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar) degenerate[k] = 1;
-      if (a.steps > 0) extents[k].T_world_object = withoutSymmetricTwist(T0, T0 * a.T, targets[k].symmetry);
+      if (a.steps > 0)
+        extents[k].T_world_object =
+            withoutSymmetricTwist(T0, T0 * limitStep(a.T, extents[k].box, step_limit), targets[k].symmetry);
     });
     for (int k = 0; k < n_obj; ++k) scene.setInstancePose(targets[k].node, extents[k].T_world_object);
     scene.commit();

@@ -23,6 +23,50 @@ void checkDevice(RTCDevice device, const char* what) {
     throw std::runtime_error(std::string("Embree error ") + std::to_string(err) + " in " + what);
 }
 
+// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3f closestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                                  const Eigen::Vector3f& c) {
+  const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3f bp = p - b;
+  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const Eigen::Vector3f cp = p - c;
+  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const float denom = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct PointQueryState {
+  const TriangleMesh* mesh;
+  Eigen::Vector3f best;
+  std::uint32_t primitive;
+  bool found = false;
+};
+
+bool closestTriangleCallback(RTCPointQueryFunctionArguments* args) {
+  auto* state = static_cast<PointQueryState*>(args->userPtr);
+  const Triangle& t = state->mesh->triangles[args->primID];
+  const auto& v = state->mesh->vertices;
+  const Eigen::Vector3f q(args->query->x, args->query->y, args->query->z);
+  const Eigen::Vector3f c = closestOnTriangle(q, v[t[0]], v[t[1]], v[t[2]]);
+  const float d = (c - q).norm();
+  if (d >= args->query->radius) return false;
+  args->query->radius = d;  // shrinks the search
+  state->best = c;
+  state->primitive = args->primID;
+  state->found = true;
+  return true;
+}
+
 }  // namespace
 
 void RayHits::resize(int w, int h) {
@@ -293,6 +337,25 @@ void RaycastScene::cast(const std::vector<WorldRay>& rays, RayHits& hits) const 
         if (valid[k]) writeHit(rh, k, b * 16 + k, hits);
     }
   });
+}
+
+bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float radius, SurfacePoint& out) const {
+  const TriangleMesh& m = this->mesh(mesh);
+  RTCPointQuery query;
+  query.x = p.x(), query.y = p.y(), query.z = p.z();
+  query.radius = radius;
+  query.time = 0.0f;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  PointQueryState state{&m, Eigen::Vector3f::Zero(), 0};
+  rtcPointQuery(mesh_scenes_[mesh], &query, &context, closestTriangleCallback, &state);
+  if (!state.found) return false;
+  const Triangle& t = m.triangles[state.primitive];
+  const Eigen::Vector3f n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+  out.point = state.best;
+  out.normal = n.norm() > 0 ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f::UnitZ();
+  out.distance = (state.best - p).norm();
+  return true;
 }
 
 void RaycastScene::writeHit(const RTCRayHit16& rh, int k, std::size_t i, RayHits& hits) const {
