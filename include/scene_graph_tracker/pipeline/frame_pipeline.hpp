@@ -112,6 +112,10 @@ class FramePipeline {
   const RaycastScene& scene() const { return scene_; }
   const Eigen::Isometry3d& T_map_odom() const { return T_map_odom_; }
   void setMapOdom(const Eigen::Isometry3d& T) { T_map_odom_ = T; }
+  // Tracks by hand (services): a tentative track of a catalog class at a map pose; its id.
+  std::string addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
+  bool removeTrack(const std::string& id);
+  void reset();  // forget every track and the map -> odom correction
   NodeId mapNode() const { return map_node_; }
 
  private:
@@ -122,7 +126,6 @@ class FramePipeline {
   };
   void predict(double stamp);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
-  void addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
   void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
 
   std::shared_ptr<const ObjectCatalog> catalog_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <stdexcept>
 
 #include "scene_graph_tracker/tracking/assignment.hpp"
 
@@ -39,7 +40,8 @@ FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::
   scene_.commit();
 }
 
-void FramePipeline::addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp) {
+std::string FramePipeline::addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp) {
+  if (!catalog_->contains(class_name)) throw std::invalid_argument("no class '" + class_name + "' in the catalog");
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   Track t{TrackedObject{}, PoseFilter(T_map_object, C, options_.motion)};
   TrackedObject& o = t.out;
@@ -50,7 +52,27 @@ void FramePipeline::addTrack(const std::string& class_name, const Eigen::Isometr
   o.covariance = C;
   o.first_seen = o.last_hypothesis = stamp;
   scene_.addInstance(o.node, class_mesh_.at(class_name), T_map_object);
+  scene_.commit();
   tracks_.push_back(std::move(t));
+  return tracks_.back().out.id;
+}
+
+bool FramePipeline::removeTrack(const std::string& id) {
+  for (std::size_t k = 0; k < tracks_.size(); ++k)
+    if (tracks_[k].out.id == id) {
+      scene_.removeInstance(tracks_[k].out.node);
+      scene_.commit();
+      graph_.remove(tracks_[k].out.node);
+      tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(k));
+      return true;
+    }
+  return false;
+}
+
+void FramePipeline::reset() {
+  while (!tracks_.empty()) removeTrack(tracks_.back().out.id);
+  T_map_odom_ = Eigen::Isometry3d::Identity();
+  last_stamp_ = -1.0;
 }
 
 void FramePipeline::predict(double stamp) {

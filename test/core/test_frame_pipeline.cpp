@@ -1,0 +1,142 @@
+// The per-frame pipeline on a simulated sequence: a robot whose odometry is 20 cm / 3 deg off
+// in front of the workbench with the five catalog objects, a box the catalog does not know, and
+// noisy detections plus one false detection. The pipeline must correct the robot pose, refine
+// the objects well below the detection noise, label the box's points unknown and drop the
+// false detection.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/sensors/noise.hpp"
+#include "scene_graph_tracker/sensors/simulation.hpp"
+
+namespace sgt {
+namespace {
+
+Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translate(t);
+  T.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  return T;
+}
+
+TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
+  BuildingOptions bo;
+  bo.target_triangles = 0;
+  bo.tile_size = 1.0f;
+  const Building building = makeBuilding(bo);
+  auto map = std::make_shared<TriangleMesh>(building.mesh);
+  auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+
+  // The world: map, the five objects along the bench, an unknown box on the bench.
+  RaycastScene world;
+  world.setStaticMap(map, 1);
+  const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();
+  const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
+  const double xs[5] = {-0.45, -0.2, 0.02, 0.3, 0.55}, yaws[5] = {0.3, -0.5, 0.1, 0.2, -0.2};
+  std::vector<Eigen::Isometry3d> truth;
+  for (std::size_t k = 0; k < classes.size(); ++k) {
+    const ObjectClass& c = catalog->get(classes[k]);
+    const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
+    truth.push_back(pose(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k]));
+    world.addInstance(10 + static_cast<NodeId>(k), world.addMesh(c.mesh), truth.back());
+  }
+  const NodeId unknown_box = 30;
+  world.addInstance(unknown_box, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
+                    pose(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
+  world.commit();
+
+  // Robot 1.1 m in front of the bench; odometry believes it is 20 cm / 3 deg elsewhere.
+  const Eigen::Isometry3d T_map_base = pose(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
+  const Eigen::Isometry3d T_map_odom_true = pose(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
+  const Eigen::Isometry3d T_odom_base = T_map_odom_true.inverse() * T_map_base;
+  const Eigen::Isometry3d T_base_camera = T_map_base.inverse() * opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), top);
+  const Eigen::Isometry3d T_base_lidar = pose(Eigen::Vector3d(0, 0, 0.9), 0.0);
+  const PinholeModel cam = PinholeModel::xtion();
+  auto cam_rays = std::make_shared<SensorRays>(makeRays(cam));
+  auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  const SimulatedScan cam_scan = simulate(world, *cam_rays, T_map_base * T_base_camera);
+  const SimulatedScan lidar_scan = simulate(world, *lidar_rays, T_map_base * T_base_lidar);
+
+  FramePipeline pipeline(catalog, map);
+  std::mt19937 rng(5);
+  std::vector<std::string> dropped;
+  std::normal_distribution<double> g;
+  PipelineResult r;
+  for (int f = 0; f < 12; ++f) {
+    PipelineFrame frame;
+    frame.stamp = f / 30.0;
+    frame.T_odom_base = T_odom_base;
+    frame.measurements.push_back(
+        fromDepthImage(cam, cam_rays, depthImage(cam_scan, *cam_rays), T_odom_base * T_base_camera));
+    addDepthNoise(frame.measurements.back(), 0.0015, 100 + f);
+    if (f % 3 == 0) {  // LiDAR at a third of the camera rate
+      frame.measurements.push_back(
+          fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar_scan.range, T_odom_base * T_base_lidar));
+      addRangeNoise(frame.measurements.back(), 0.01, 200 + f);
+    }
+    // Detections with 1 cm / 3 deg noise, and a multimeter where there is none (first frame).
+    for (std::size_t k = 0; k < classes.size(); ++k) {
+      Eigen::Isometry3d T = truth[k];
+      T.translation() += 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      T.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0 * g(rng), Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) *
+                   T.linear();
+      frame.hypotheses.push_back({classes[k], T_map_base.inverse() * T, 0.9});
+    }
+    if (f == 0) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * pose(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
+    r = pipeline.process(frame);
+    dropped.insert(dropped.end(), r.dropped.begin(), r.dropped.end());
+    if (getenv("SGT_DEBUG"))
+      for (const TrackedObject& o : r.objects) {
+        const auto k = static_cast<std::size_t>(std::find(classes.begin(), classes.end(), o.class_name) - classes.begin());
+        if (k >= classes.size() || o.id.back() != '1') continue;
+        const Eigen::Vector3d e = truth[k].linear().transpose() * (o.T_map_object.translation() - truth[k].translation()) * 1000;
+        std::printf("f%d %s e_obj %.1f %.1f %.1f rot %.2f inl %d/%d %s\n", f, o.id.c_str(), e.x(), e.y(), e.z(),
+                    Eigen::AngleAxisd(o.T_map_object.linear().transpose() * truth[k].linear()).angle() * 180 / M_PI,
+                    o.quality.inliers, o.quality.expected, toString(o.quality.status));
+      }
+  }
+
+  // The robot: corrected to well within the localization goal (2 cm / 0.5 deg).
+  EXPECT_LT((r.T_map_base.translation() - T_map_base.translation()).norm(), 0.01);
+  EXPECT_LT(Eigen::AngleAxisd(r.T_map_base.linear().transpose() * T_map_base.linear()).angle() * 180 / M_PI, 0.3);
+  // The objects: one track per real object, ADD-S below the 1 cm detection noise. The generated
+  // meshes are coarse boxes-and-cylinders, so 5 mm leaves room for their ambiguity.
+  ASSERT_EQ(r.objects.size(), 5u) << "the false multimeter must have been dropped";
+  EXPECT_EQ(dropped, std::vector<std::string>{"multimeter_2"});
+  for (const TrackedObject& o : r.objects) {
+    const auto k = static_cast<std::size_t>(std::find(classes.begin(), classes.end(), o.class_name) - classes.begin());
+    ASSERT_LT(k, classes.size());
+    const ObjectClass& c = catalog->get(o.class_name);
+    const PoseErrors e = poseErrors(c, sampleSurface(*c.mesh, 300, 1).points, o.T_map_object, truth[k]);
+    EXPECT_LT(e.add_s, 0.005) << o.id;
+    EXPECT_EQ(o.quality.status, RefineStatus::kOk) << o.id;
+  }
+  // Pre-segmentation: the unknown box's camera pixels come out unknown.
+  ASSERT_FALSE(r.presegmentation.empty());
+  std::size_t box = 0, box_unknown = 0;
+  for (std::size_t i = 0; i < cam_scan.node.size(); ++i)
+    if (cam_scan.node[i] == unknown_box && r.measurements[0].valid(i))
+      ++box, box_unknown += r.presegmentation[0].label[i] == PointLabel::kUnknown;
+  ASSERT_GT(box, 500u);
+  EXPECT_GT(static_cast<double>(box_unknown) / box, 0.95);
+}
+
+TEST(FramePipeline, EmptyFramesKeepItRunning) {
+  auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  FramePipeline pipeline(catalog, std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})));
+  PipelineFrame empty;
+  const PipelineResult r = pipeline.process(empty);
+  EXPECT_TRUE(r.objects.empty());
+  EXPECT_FALSE(r.localized);
+  PipelineFrame unknown_class;
+  unknown_class.hypotheses.push_back({"teapot", Eigen::Isometry3d::Identity(), 1.0});
+  EXPECT_TRUE(pipeline.process(unknown_class).objects.empty());
+}
+
+}  // namespace
+}  // namespace sgt
