@@ -1,0 +1,72 @@
+// The tracker as a nodelet: converts topics into pipeline frames, runs FramePipeline, publishes
+// the results. No tracking logic lives here (see pipeline/frame_pipeline.hpp).
+//
+// Subscribes: depth image + camera_info (synchronised), a VLP-16 PointCloud2, pose hypotheses
+// (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
+// ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
+// map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
+// ~add_track, ~remove_track. Parameters: see config/tracker.yaml and the README.
+#pragma once
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <scene_graph_tracker/AddTrack.h>
+#include <scene_graph_tracker/PoseHypothesisArray.h>
+#include <scene_graph_tracker/RemoveTrack.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Empty.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <deque>
+#include <memory>
+#include <mutex>
+
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+
+namespace sgt::ros {
+
+class TrackerNodelet : public nodelet::Nodelet {
+ public:
+  void onInit() override;
+
+ private:
+  using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
+
+  void onDepth(const sensor_msgs::ImageConstPtr& depth, const sensor_msgs::CameraInfoConstPtr& info);
+  void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg);
+  bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
+  bool onAddTrack(scene_graph_tracker::AddTrack::Request& req, scene_graph_tracker::AddTrack::Response& res);
+  bool onRemoveTrack(scene_graph_tracker::RemoveTrack::Request& req, scene_graph_tracker::RemoveTrack::Response& res);
+  void publish(const PipelineResult& r, const ::ros::Time& stamp);
+  void publishDiagnostics(const std::string& problem, const PipelineResult* r);
+
+  std::unique_ptr<FramePipeline> pipeline_;
+  std::mutex mutex_;  // pipeline_ and the buffers below
+  std::string map_frame_, odom_frame_, base_frame_;
+  bool publish_map_odom_ = true, publish_object_tf_ = false;
+  double hypothesis_max_age_ = 0.1;
+  std::deque<sensor_msgs::PointCloud2ConstPtr> clouds_;
+  std::deque<scene_graph_tracker::PoseHypothesisArrayConstPtr> hypotheses_;
+  ::ros::Time last_stamp_;
+
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  message_filters::Subscriber<sensor_msgs::Image> depth_sub_;
+  message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
+  ::ros::Subscriber cloud_sub_, hypotheses_sub_;
+  ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, diagnostics_pub_;
+  ::ros::ServiceServer reset_srv_, add_srv_, remove_srv_;
+};
+
+}  // namespace sgt::ros
