@@ -83,6 +83,15 @@ void TrackerNodelet::onInit() {
   remove_srv_ = pnh.advertiseService("remove_track", &TrackerNodelet::onRemoveTrack, this);
 }
 
+void TrackerNodelet::warn(const std::string& text) {
+  // Each distinct problem at once, a repeated one at most every 2 s: bad input at 30 Hz must
+  // neither spam the log nor hide a new kind of problem.
+  const ::ros::WallTime now = ::ros::WallTime::now();
+  if (text == last_warning_ && (now - last_warning_time_).toSec() < 2.0) return;
+  last_warning_ = text, last_warning_time_ = now;
+  NODELET_WARN("tracker: %s", text.c_str());
+}
+
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
   std::lock_guard<std::mutex> lock(mutex_);
   clouds_.push_back(cloud);
@@ -132,7 +141,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
                                      [&](const auto& h) { return h->header.stamp <= stamp; }),
                       hypotheses_.end());
   } catch (const std::exception& e) {
-    NODELET_WARN_THROTTLE(2.0, "tracker: depth frame at %.3f skipped: %s", stamp.toSec(), e.what());
+    warn(std::string("depth frame skipped: ") + e.what());
     publishDiagnostics(std::string("depth frame skipped: ") + e.what(), nullptr);
     return;
   }
@@ -147,7 +156,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
                                               lookup(odom_frame_, cloud->header.frame_id, cloud->header.stamp),
                                               cloud->header.frame_id));
     } catch (const std::exception& e) {
-      NODELET_WARN_THROTTLE(2.0, "tracker: point cloud at %.3f skipped: %s", cloud->header.stamp.toSec(), e.what());
+      warn(std::string("point cloud skipped: ") + e.what());
     }
   }
   const PipelineResult r = pipeline_->process(std::move(frame));

@@ -48,6 +48,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   bool onRemoveTrack(scene_graph_tracker::RemoveTrack::Request& req, scene_graph_tracker::RemoveTrack::Response& res);
   void publish(const PipelineResult& r, const ::ros::Time& stamp);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
+  void warn(const std::string& text);
 
   std::unique_ptr<FramePipeline> pipeline_;
   std::mutex mutex_;  // pipeline_ and the buffers below
@@ -57,6 +58,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::deque<sensor_msgs::PointCloud2ConstPtr> clouds_;
   std::deque<scene_graph_tracker::PoseHypothesisArrayConstPtr> hypotheses_;
   ::ros::Time last_stamp_;
+  std::string last_warning_;
+  ::ros::WallTime last_warning_time_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
