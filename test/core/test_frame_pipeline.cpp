@@ -90,15 +90,6 @@ TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
     if (f == 0) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * pose(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
     r = pipeline.process(frame);
     dropped.insert(dropped.end(), r.dropped.begin(), r.dropped.end());
-    if (getenv("SGT_DEBUG"))
-      for (const TrackedObject& o : r.objects) {
-        const auto k = static_cast<std::size_t>(std::find(classes.begin(), classes.end(), o.class_name) - classes.begin());
-        if (k >= classes.size() || o.id.back() != '1') continue;
-        const Eigen::Vector3d e = truth[k].linear().transpose() * (o.T_map_object.translation() - truth[k].translation()) * 1000;
-        std::printf("f%d %s e_obj %.1f %.1f %.1f rot %.2f inl %d/%d %s\n", f, o.id.c_str(), e.x(), e.y(), e.z(),
-                    Eigen::AngleAxisd(o.T_map_object.linear().transpose() * truth[k].linear()).angle() * 180 / M_PI,
-                    o.quality.inliers, o.quality.expected, toString(o.quality.status));
-      }
   }
 
   // The robot: corrected to well within the localization goal (2 cm / 0.5 deg).

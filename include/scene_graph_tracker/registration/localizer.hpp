@@ -6,7 +6,8 @@
 // solves for the base-frame correction with point-to-plane steps against the map's normals
 // (NormalSide::kFixed). Rays that hit a tracked object are explained by it but do not pull the
 // robot. The threshold adapts: it starts wide enough for the expected initial error and then
-// follows the residuals (3 x their mean absolute range error), never below max_dist_min.
+// follows the residuals (3 x their robust sigma, 1.4826 x the median absolute residual, so that
+// people and moved furniture do not hold it open), never below max_dist_min.
 #pragma once
 
 #include <vector>
@@ -21,7 +22,7 @@ struct LocalizerOptions {
   StepSolver solver = StepSolver::kLinearPointToPlane;
   float max_dist_start = 0.6f;  // first round's threshold (m): covers 30 cm / 5 deg starts
   float max_dist_min = 0.05f;   // the adaptive threshold never goes below (sensor noise + map error)
-  float residual_factor = 3.0f;  // next threshold = factor x mean |range residual| of the inliers
+  float residual_factor = 3.0f;  // next threshold = factor x robust sigma of the inliers' residuals
   // Every image_stride-th pixel of depth images and every scan_stride-th column and ring of LiDAR
   // scans is cast: the map constrains the robot from far fewer rays than the sensors measure.
   int image_stride = 4;
@@ -31,6 +32,10 @@ struct LocalizerOptions {
   double converged_translation = 5e-4;  // a round that moves less (m and rad) ends the search
   double converged_rotation = 1e-4;
   double step_tolerance = 1e-7;
+  // Ground robot: correct x, y and yaw only (z, roll and pitch stay with the prior). A VLP-16's
+  // +-15 deg barely sees floor and ceiling, so a 6-DoF solve lets small roll/pitch errors grow
+  // over frames and then holds the threshold open (seen in the demo scenario).
+  bool planar = true;
   AlignmentOptions alignment;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 
 namespace sgt {
@@ -41,6 +42,10 @@ struct AlignmentOptions {
   double planar_ratio = 1e-4;
   double collinear_ratio = 1e-4;
   bool reject_planar = true;
+  // Degrees of freedom the linear point-to-plane step may change, in the frame the points are
+  // given in: rotation about x, y, z, then translation along x, y, z. A ground robot localizes
+  // in x, y and yaw only (its height, roll and pitch come from the floor it stands on).
+  std::array<bool, 6> free_dofs{true, true, true, true, true, true};
 };
 
 struct Alignment {

@@ -155,6 +155,7 @@ std::string EvaluationReport::markdown() const {
 
 std::string EvaluationReport::timeseriesCsv() const {
   std::ostringstream o;
+  o << std::setprecision(15);  // stamps are ~1.7e9 s: keep the milliseconds
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,presegment_ms,total_ms,"
        "loc_t_mm,loc_r_deg\n";
   for (const ObjectRow& r : objects_)

@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/registration/localizer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -53,20 +54,24 @@ LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<
     const Eigen::Isometry3f T_base_map = T.inverse().cast<float>();
     std::vector<Eigen::Vector3f> moving, fixed, normals;
     moving.reserve(pairs.size()), fixed.reserve(pairs.size()), normals.reserve(pairs.size());
-    double abs_residual = 0.0, sq_residual = 0.0;
+    double sq_residual = 0.0;
+    std::vector<float> abs_residual;
+    abs_residual.reserve(pairs.size());
     for (const RayPair& p : pairs) {
       moving.push_back(T_base_map * p.measured);
       fixed.push_back(T_base_map * p.model);
       normals.push_back(T_base_map.linear() * p.normal);
       const double r = (p.measured - p.model).norm();
-      abs_residual += r, sq_residual += r * r;
+      abs_residual.push_back(static_cast<float>(r)), sq_residual += r * r;
     }
     result.inliers = static_cast<int>(pairs.size());
     result.expected = expected;
     if (result.inliers < options_.min_inliers) break;
     result.rmse = std::sqrt(sq_residual / pairs.size());
+    AlignmentOptions alignment = options_.alignment;
+    if (options_.planar) alignment.free_dofs = {false, false, true, true, true, false};  // base frame: z up
     const IterativeAlignment a = alignPairs(moving, fixed, normals, NormalSide::kFixed, options_.solver,
-                                            options_.steps, options_.step_tolerance, options_.alignment);
+                                            options_.steps, options_.step_tolerance, alignment);
     if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar) {
       degenerate = true;
       break;
@@ -74,9 +79,11 @@ LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<
     if (a.steps == 0) break;
     T = T * a.T;
     const double moved_t = a.T.translation().norm(), moved_r = Eigen::AngleAxisd(a.T.linear()).angle();
-    const float next = std::max(options_.max_dist_min,
-                                std::min(max_dist, options_.residual_factor *
-                                                       static_cast<float>(abs_residual / pairs.size())));
+    // Robust scale of the residuals (1.4826 x median absolute residual = sigma for Gaussian
+    // noise): people and moved things inside the threshold must not hold it open.
+    std::nth_element(abs_residual.begin(), abs_residual.begin() + abs_residual.size() / 2, abs_residual.end());
+    const float sigma = 1.4826f * abs_residual[abs_residual.size() / 2];
+    const float next = std::max(options_.max_dist_min, std::min(max_dist, options_.residual_factor * sigma));
     converged = moved_t < options_.converged_translation && moved_r < options_.converged_rotation &&
                 max_dist <= options_.max_dist_min;
     max_dist = next;

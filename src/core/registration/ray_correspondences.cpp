@@ -61,7 +61,8 @@ namespace {
 // double.
 bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
                             const std::vector<Eigen::Vector3f>& normals, NormalSide side, const Eigen::Matrix3f& R,
-                            const Eigen::Vector3f& t, Eigen::Matrix3d& dR, Eigen::Vector3d& dt) {
+                            const Eigen::Vector3f& t, const std::array<bool, 6>& free, Eigen::Matrix3d& dR,
+                            Eigen::Vector3d& dt) {
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   struct Sums {
@@ -96,8 +97,11 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const st
         return a;
       });
   Mat6 H = sums.H;
+  Vec6 g = sums.g;
   H.diagonal().array() += 1e-9 + 1e-6 * H.trace() / 6.0;  // keeps unobservable directions still
-  const Vec6 x = H.ldlt().solve(-sums.g);
+  for (int i = 0; i < 6; ++i)
+    if (!free[i]) H.row(i).setZero(), H.col(i).setZero(), H(i, i) = 1.0, g(i) = 0.0;  // held fixed
+  const Vec6 x = H.ldlt().solve(-g);
   if (!x.allFinite()) return false;
   const Eigen::Vector3d w = x.head<3>();
   dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
@@ -144,7 +148,7 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const 
     Eigen::Matrix3d dRd = step.T.linear();
     Eigen::Vector3d dtd = step.T.translation();
     if (solver == StepSolver::kLinearPointToPlane &&
-        !linearPointToPlaneStep(moving, fixed, normals, side, R, t, dRd, dtd))
+        !linearPointToPlaneStep(moving, fixed, normals, side, R, t, options.free_dofs, dRd, dtd))
       break;
     const Eigen::Matrix3f dR = dRd.cast<float>();
     const Eigen::Vector3f dt = dtd.cast<float>();
