@@ -32,7 +32,7 @@ DEMO_SCENARIO ?= config/scenarios/workbench.yaml
 TOOLS := $(BUILD)/devel/lib/scene_graph_tracker
 demo: build
 	@mkdir -p $(DEMO_DIR)
-	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag
+	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag $(DEMO_SIMULATE_ARGS)
 	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) $(DEMO_EVALUATE_ARGS)
 
 clean:
