@@ -51,6 +51,11 @@ struct PipelineOptions {
   PoseFilterNoise motion;
   bool localize = true;
   bool localize_with_lidar_only = true;  // depth images near a bench add little but cost rays
+  // Whether tracked objects stay in the scene while the robot localizes (their points are then
+  // explained and dropped). Off by default: the robot pose must not depend on object tracks,
+  // which may be wrong exactly when the robot pose is (a track a few cm off hides the map
+  // behind it); without them, points on objects are outliers that the threshold drops.
+  bool localize_against_objects = false;
   // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise,
   // as much as a screwdriver's radius) only when the frame has no depth image or when this is set.
   bool refine_with_lidar = false;
@@ -125,6 +130,7 @@ class FramePipeline {
     double absent_since = -1.0;  // < 0: no evidence of absence
   };
   void predict(double stamp);
+  void setTracksEnabled(bool enabled);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
   void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
 

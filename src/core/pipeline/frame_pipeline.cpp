@@ -75,6 +75,11 @@ void FramePipeline::reset() {
   last_stamp_ = -1.0;
 }
 
+void FramePipeline::setTracksEnabled(bool enabled) {
+  for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, enabled);
+  scene_.commit();
+}
+
 void FramePipeline::predict(double stamp) {
   const double dt = last_stamp_ >= 0.0 ? stamp - last_stamp_ : 0.0;
   last_stamp_ = stamp;
@@ -169,7 +174,9 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
       for_localization.push_back(m);
   if (options_.localize && !for_localization.empty()) {
     const Localizer localizer(options_.localizer);
+    if (!options_.localize_against_objects) setTracksEnabled(false);
     out.localization = localizer.localize(scene_, for_localization, prior);
+    if (!options_.localize_against_objects) setTracksEnabled(true);
     out.localized = out.localization.status == LocalizeStatus::kOk;
     if (out.localized) {
       const Eigen::Isometry3d correction = out.localization.T_map_base * prior.inverse();
