@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/ros/bag_frames.hpp"
 
 #include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <rosbag/view.h>
 #include <scene_graph_tracker/ObjectPoseArray.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
@@ -44,11 +45,17 @@ BagFrameReader::BagFrameReader(const std::string& path, const BagTopics& topics)
   depth_count_ = rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.depth})).size();
   if (depth_count_ == 0) throw std::runtime_error(path + ": no depth images on " + topics_.depth);
   has_truth_ = rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.truth_objects})).size() > 0;
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.map_odom_prior})))
+    if (const auto t = mi.instantiate<geometry_msgs::TransformStamped>()) {
+      map_odom_prior_ = toEigen(t->transform);
+      break;
+    }
 }
 
 BagFrameReader::~BagFrameReader() = default;
 
 std::optional<Eigen::Isometry3d> BagFrameReader::mapToOdom(double stamp) const {
+  if (map_odom_prior_) return map_odom_prior_;
   try {
     return toEigen(tf_->lookupTransform("map", topics_.odom_frame, ::ros::Time(stamp)).transform);
   } catch (const tf2::TransformException&) {

@@ -146,6 +146,10 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
     tf_static.transforms.push_back(transform(t0, frames::kBase, frames::kCamera, s.camera.T_base_camera));
     tf_static.transforms.push_back(transform(t0, frames::kBase, frames::kLidar, s.lidar.T_base_lidar));
     bag.write(topics::kTfStatic, t0, tf_static, latched(tf_static));
+    // The odometry prior's map -> odom goes on its own topic, not on /tf: on replay the tracker
+    // publishes the corrected map -> odom, and two publishers of one transform fight.
+    const geometry_msgs::TransformStamped prior = transform(t0, frames::kMap, frames::kOdom, world.mapToOdom());
+    bag.write(topics::kMapOdomPrior, t0, prior, latched(prior));
   }
 
   // Simulation runs one stamp ahead of the bag writing, in its own thread (ray casting itself
@@ -161,7 +165,6 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
         auto b = std::make_unique<Bundle>();
         const double t = static_cast<double>(t_ns) * 1e-9;
         const ::ros::Time stamp = b->stamp = stampOf(t_ns);
-        b->tf.transforms.push_back(transform(stamp, frames::kMap, frames::kOdom, world.mapToOdom()));
         b->tf.transforms.push_back(transform(stamp, frames::kOdom, frames::kBase, world.odometry(t)));
         b->base.header = header(stamp, frames::kMap);
         b->base.pose = toPose(world.basePose(t));

@@ -1,6 +1,7 @@
 // The simulator's bag round trip: config/scenarios/test_short.yaml (1 s) written with
 // writeScenarioBag (what `simulate` calls) and read back with rosbag::View.
 #include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -60,7 +61,7 @@ TEST_F(SimulateBag, TopicsCountsAndMonotonicStamps) {
   EXPECT_EQ(summary_.lidar_scans, scans);
   EXPECT_EQ(summary_.stamps, cams);  // LiDAR stamps are camera stamps too
   const std::map<std::string, std::size_t> expected = {
-      {topics::kTfStatic, 1},       {topics::kTf, cams},        {topics::kRgb, cams},
+      {topics::kTfStatic, 1},       {topics::kMapOdomPrior, 1},  {topics::kTf, cams},        {topics::kRgb, cams},
       {topics::kRgbInfo, cams},     {topics::kDepth, cams},     {topics::kDepthInfo, cams},
       {topics::kVelodyne, scans},   {topics::kGtObjects, cams}, {topics::kGtBasePose, cams},
       {topics::kGtDepthLabels, cams}, {topics::kGtVelodyneLabels, scans}, {topics::kHypotheses, cams}};
@@ -206,26 +207,28 @@ TEST_F(SimulateBag, GroundTruthEqualsTheScenario) {
         EXPECT_TRUE(toEigen(tf->transforms[1].transform).isApprox(s().lidar.T_base_lidar, 1e-9));
         continue;
       }
-      ASSERT_EQ(tf->transforms.size(), 2u);
-      EXPECT_EQ(tf->transforms[0].header.frame_id, frames::kMap);
-      EXPECT_EQ(tf->transforms[0].child_frame_id, frames::kOdom);
-      EXPECT_EQ(tf->transforms[1].header.frame_id, frames::kOdom);
-      EXPECT_EQ(tf->transforms[1].child_frame_id, frames::kBase);
-      const Eigen::Isometry3d map_odom = toEigen(tf->transforms[0].transform);
-      const Eigen::Isometry3d odom_base = toEigen(tf->transforms[1].transform);
+      ASSERT_EQ(tf->transforms.size(), 1u);  // odometry only: map -> odom is the localizer's
+      EXPECT_EQ(tf->transforms[0].header.frame_id, frames::kOdom);
+      EXPECT_EQ(tf->transforms[0].child_frame_id, frames::kBase);
+      const Eigen::Isometry3d odom_base = toEigen(tf->transforms[0].transform);
       if (tfs++ == 0) {
-        map_odom0 = map_odom;
         // Odometry starts at the true start pose; the prior is it moved by the configured initial
-        // error (in the robot's frame); map -> odom stays near the identity.
+        // error (in the robot's frame); map -> odom (own topic, once) stays near the identity.
         EXPECT_TRUE(odom_base.isApprox(s().robot.at(0.0), 1e-6));
+        rosbag::View prior_view(bag, rosbag::TopicQuery(std::string(topics::kMapOdomPrior)));
+        ASSERT_EQ(prior_view.size(), 1u);
+        const auto p = prior_view.begin()->instantiate<geometry_msgs::TransformStamped>();
+        ASSERT_TRUE(p);
+        EXPECT_EQ(p->header.frame_id, frames::kMap);
+        EXPECT_EQ(p->child_frame_id, frames::kOdom);
+        map_odom0 = toEigen(p->transform);
         const Eigen::Vector3d e = s().noise.odom_initial_error;
-        const Eigen::Isometry3d prior0 = map_odom * odom_base;
+        const Eigen::Isometry3d prior0 = map_odom0 * odom_base;
         EXPECT_TRUE(prior0.translation().isApprox(s().robot.at(0.0) * Eigen::Vector3d(e.x(), e.y(), 0), 1e-6));
-        EXPECT_NEAR(Eigen::AngleAxisd(map_odom.linear()).angle(), std::abs(e.z()), 1e-6);
+        EXPECT_NEAR(Eigen::AngleAxisd(map_odom0.linear()).angle(), std::abs(e.z()), 1e-6);
       }
-      EXPECT_TRUE(map_odom.isApprox(map_odom0, 1e-9));  // constant
       // The odometry prior stays near the truth (noise of a 0.45 m drive): within 10 cm.
-      const Eigen::Isometry3d prior = map_odom * odom_base;
+      const Eigen::Isometry3d prior = map_odom0 * odom_base;
       EXPECT_LT((prior.translation() - s().robot.at(t).translation()).norm(), 0.1) << t;
     }
   }

@@ -33,6 +33,7 @@ struct BagTopics {
   std::string truth_base = "/ground_truth/base_pose";
   std::string truth_depth_labels = "/ground_truth/depth_labels";
   std::string truth_lidar_labels = "/ground_truth/velodyne_labels";
+  std::string map_odom_prior = "/simulated/map_odom_prior";  // TransformStamped map -> odom
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
 };
@@ -64,7 +65,8 @@ class BagFrameReader {
 
   std::size_t frameCount() const { return depth_count_; }
   bool hasGroundTruth() const { return has_truth_; }
-  // The bag's own map -> odom (e.g. the simulator's odometry prior) at `stamp`, if it has one.
+  // The bag's map -> odom prior: the simulator's (map_odom_prior topic) or, in a bag recorded
+  // with a localizer running, its map -> odom on /tf at `stamp`; nullopt when it has neither.
   std::optional<Eigen::Isometry3d> mapToOdom(double stamp) const;
   // Calls `f` for every frame in stamp order.
   void forEach(const std::function<void(BagFrame&)>& f);
@@ -75,6 +77,7 @@ class BagFrameReader {
   std::unique_ptr<tf2::BufferCore> tf_;
   std::size_t depth_count_ = 0;
   bool has_truth_ = false;
+  std::optional<Eigen::Isometry3d> map_odom_prior_;
 };
 
 }  // namespace sgt::ros

@@ -4,10 +4,11 @@
 //   /tf_static  (tf2_msgs/TFMessage, once at the start, latched)  base_link -> camera_rgb_optical_frame,
 //                base_link -> velodyne
 //   /tf         (per sensor stamp)  odom -> base_link: the drifting wheel odometry (starts at the true
-//                start pose); map -> odom: constant, the identity up to the configured initial error
-//                (noise.odometry.initial_error, in the robot's start frame). Together
-//                map -> odom -> base_link is the odometry PRIOR, where odometry alone thinks the robot
-//                is; a localizer corrects map -> odom. The TRUE pose is /ground_truth/base_pose.
+//                start pose). No map -> odom: a localizer (the tracker) publishes that.
+//   /simulated/map_odom_prior (geometry_msgs/TransformStamped, once, latched) map -> odom: the
+//                identity up to the configured initial error (noise.odometry.initial_error, in the
+//                robot's start frame). map -> odom -> base_link through it is the odometry PRIOR,
+//                where odometry alone thinks the robot is. The TRUE pose is /ground_truth/base_pose.
 //   /camera/rgb/image_raw (rgb8), /camera/rgb/camera_info
 //   /camera/depth_registered/image_raw (32FC1 m, NaN = no return; same frame and intrinsics as RGB),
 //   /camera/depth_registered/camera_info
@@ -41,6 +42,7 @@ inline constexpr const char* kGtBasePose = "/ground_truth/base_pose";
 inline constexpr const char* kGtDepthLabels = "/ground_truth/depth_labels";
 inline constexpr const char* kGtVelodyneLabels = "/ground_truth/velodyne_labels";
 inline constexpr const char* kHypotheses = "/simulated/pose_hypotheses";
+inline constexpr const char* kMapOdomPrior = "/simulated/map_odom_prior";
 }  // namespace topics
 
 namespace frames {
