@@ -48,6 +48,18 @@ TEST(PoseFilter, LearnsAConstantMotionAndCoastsThroughAGap) {
   EXPECT_GT(f.poseCovariance()(0, 0), C(0, 0));
 }
 
+TEST(PoseFilter, CoastingSlowsDown) {
+  const PoseFilter::Mat6 C = covariance(0.001, 0.0035);
+  PoseFilter f(truthAt(0), C);
+  for (int k = 1; k <= 60; ++k) f.predict(1.0 / 30.0), f.update(truthAt(k / 30.0), C);
+  ASSERT_NEAR(f.velocity().x(), 0.2, 0.02);
+  const Eigen::Vector3d before = f.pose().translation();
+  for (int k = 0; k < 60; ++k) f.damp(1.0 / 30.0), f.predict(1.0 / 30.0);  // 2 s coasting
+  // With decay constant 0.3 s the object travels at most 0.2 m/s x 0.3 s = 6 cm, not 40 cm.
+  EXPECT_LT((f.pose().translation() - before).norm(), 0.065);
+  EXPECT_LT(f.velocity().norm(), 0.001);
+}
+
 TEST(PoseFilter, SymmetricTwinDoesNotSpinTheFilter) {
   Symmetry half_turn;
   Eigen::Isometry3d S = Eigen::Isometry3d::Identity();

@@ -14,6 +14,9 @@ struct PoseFilterNoise {
   double accel = 0.2;          // m/s^2, white-noise acceleration (a hand moving an object)
   double angular_accel = 0.2;  // rad/s^2 (higher makes the turn rate follow pose noise)
   double initial_velocity = 0.2, initial_angular_velocity = 0.5;  // 1 sigma of the unknown start
+  // While a track coasts (no measurement), its velocities decay with this time constant: an
+  // object put down stops; carrying on at the last velocity would fly it away in a second.
+  double coast_decay_s = 0.3;
 };
 
 class PoseFilter {
@@ -24,6 +27,8 @@ class PoseFilter {
   PoseFilter(const Eigen::Isometry3d& T, const Mat6& pose_covariance, const PoseFilterNoise& noise = {});
 
   void predict(double dt);
+  // Lets the velocities decay over `dt` (see PoseFilterNoise::coast_decay_s); for coasting.
+  void damp(double dt);
   // A measured pose with its covariance ([translation, rotation] in the world frame). With a
   // symmetry, the symmetric twin of the measurement closest to the prediction is used, so a
   // crate seen turned by 180 deg does not spin the filter. Returns the squared Mahalanobis

@@ -84,6 +84,7 @@ void FramePipeline::predict(double stamp) {
   const double dt = last_stamp_ >= 0.0 ? stamp - last_stamp_ : 0.0;
   last_stamp_ = stamp;
   for (Track& t : tracks_) {
+    if (dt > 0.0 && t.out.quality.status != RefineStatus::kOk) t.filter.damp(dt);  // coasting
     if (dt > 0.0) t.filter.predict(dt);
     t.out.T_map_object = t.filter.pose();
     scene_.setInstancePose(t.out.node, t.out.T_map_object);

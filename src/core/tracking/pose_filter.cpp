@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace sgt {
@@ -42,6 +43,16 @@ void PoseFilter::predict(double dt) {
   block(0, noise_.accel);
   block(6, noise_.angular_accel);
   P_ = F * P_ * F.transpose() + Q;
+}
+
+void PoseFilter::damp(double dt) {
+  if (!(dt > 0.0) || !(noise_.coast_decay_s > 0.0)) return;
+  const double k = std::exp(-dt / noise_.coast_decay_s);
+  v_ *= k, w_ *= k;
+  Mat12 D = Mat12::Identity();
+  D.block<3, 3>(3, 3) *= k;
+  D.block<3, 3>(9, 9) *= k;
+  P_ = D * P_ * D.transpose();
 }
 
 Eigen::Matrix<double, 6, 1> PoseFilter::innovation(const Eigen::Isometry3d& T, const Symmetry* symmetry) const {
