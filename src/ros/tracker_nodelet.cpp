@@ -130,13 +130,20 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
                                                 lookup(odom_frame_, depth->header.frame_id, stamp),
                                                 depth->header.frame_id));
     const Eigen::Isometry3d T_base_camera = lookup(base_frame_, depth->header.frame_id, stamp);
+    // The detections of this image: the one hypothesis array closest in time (a detector emits one
+    // per image); using every array within the window would count each object several times.
+    scene_graph_tracker::PoseHypothesisArrayConstPtr best;
     for (const auto& h : hypotheses_)
-      if (std::abs((h->header.stamp - stamp).toSec()) <= hypothesis_max_age_) {
-        const Eigen::Isometry3d T_base_frame =
-            h->header.frame_id == depth->header.frame_id ? T_base_camera : lookup(base_frame_, h->header.frame_id, h->header.stamp);
-        for (const auto& p : h->hypotheses)
-          frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
-      }
+      if (std::abs((h->header.stamp - stamp).toSec()) <= hypothesis_max_age_ &&
+          (!best || std::abs((h->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec())))
+        best = h;
+    if (best) {
+      const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth->header.frame_id
+                                                 ? T_base_camera
+                                                 : lookup(base_frame_, best->header.frame_id, best->header.stamp);
+      for (const auto& p : best->hypotheses)
+        frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
+    }
     hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
                                      [&](const auto& h) { return h->header.stamp <= stamp; }),
                       hypotheses_.end());

@@ -65,6 +65,7 @@ struct PipelineOptions {
   int confirm_hits = 3;                // good refinements that confirm a tentative track
   double remove_after_s = 1.0;         // evidence of absence for this long removes a track
   double remove_tentative_after_s = 0.3;
+  double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   bool run_presegmentation = true;

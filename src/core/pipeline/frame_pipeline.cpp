@@ -152,7 +152,11 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
     Track& t = tracks_[k];
     const double limit =
         t.out.state == TrackState::kTentative ? options_.remove_tentative_after_s : options_.remove_after_s;
-    if (t.absent_since < 0.0 || stamp - t.absent_since < limit) continue;
+    // A tentative track that detections stopped confirming goes too, seen or not (a false
+    // positive out of the sensors' reach never collects evidence of absence).
+    const bool stale = t.out.state == TrackState::kTentative &&
+                       stamp - t.out.last_hypothesis > options_.tentative_timeout_s;
+    if (!stale && (t.absent_since < 0.0 || stamp - t.absent_since < limit)) continue;
     dropped.push_back(t.out.id);
     scene_.removeInstance(t.out.node);
     graph_.remove(t.out.node);
