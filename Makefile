@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo clean
+.PHONY: deps build test bench demo latency clean
 
 deps:
 	@scripts/install-deps.sh
@@ -34,6 +34,10 @@ demo: build
 	@mkdir -p $(DEMO_DIR)
 	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag $(DEMO_SIMULATE_ARGS)
 	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) $(DEMO_EVALUATE_ARGS)
+
+# Latency image stamp -> tracked objects while replaying the default scenario at real time.
+latency: build
+	@scripts/latency.sh $(DEMO_DIR)/workbench.bag $(BUILD)/latency.json
 
 clean:
 	rm -rf $(BUILD)

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# make latency: replays BAG (default: build/demo/workbench.bag, simulated when missing) at 1x
+# through replay.launch (no rviz) and measures image stamp -> tracked objects published.
+set -eo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bag="${1:-$root/build/demo/workbench.bag}"
+out="${2:-$root/build/latency.json}"
+export PATH=/usr/bin:/bin:$PATH
+tools="$root/build/devel/lib/scene_graph_tracker"
+if [ ! -f "$bag" ]; then
+  mkdir -p "$(dirname "$bag")"
+  "$tools/simulate" --scenario "$root/config/scenarios/workbench.yaml" --output "$bag" --quiet
+fi
+set +u; source "$root/build/devel/setup.bash"; set -u
+export ROS_PACKAGE_PATH="$root:${ROS_PACKAGE_PATH:-}"
+port=11398
+export ROS_MASTER_URI=http://localhost:$port
+roslaunch -p $port scene_graph_tracker replay.launch bag:="$(realpath "$bag")" rviz:=false > "$root/build/latency_launch.log" 2>&1 &
+launch=$!
+trap 'kill -INT $launch 2>/dev/null || true; wait $launch 2>/dev/null || true' EXIT
+# The probe must start after replay.launch set /use_sim_time (the clock is read at node start).
+for _ in $(seq 50); do rosparam get /use_sim_time >/dev/null 2>&1 && break; sleep 0.2; done
+"$tools/latency_probe" --duration 26 --output "$out"
+echo "written: $out (launch log: build/latency_launch.log)"
