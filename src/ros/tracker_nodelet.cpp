@@ -78,6 +78,17 @@ void TrackerNodelet::onInit() {
   sync_->registerCallback(boost::bind(&TrackerNodelet::onDepth, this, boost::placeholders::_1, boost::placeholders::_2));
   cloud_sub_ = nh.subscribe("points", 2, &TrackerNodelet::onCloud, this);
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
+  // Run-time parameters start from the values loaded above (config/tracker.yaml).
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(reconfigure_mutex_, pnh);
+  scene_graph_tracker::TrackerConfig initial;
+  initial.refine_rounds = o.refiner.rounds, initial.refine_steps = o.refiner.steps;
+  initial.max_dist_first = o.refiner.max_dist_first, initial.max_dist_last = o.refiner.max_dist_last;
+  initial.association_distance = o.association_distance, initial.remove_after = o.remove_after_s;
+  initial.min_hypothesis_score = o.min_hypothesis_score, initial.localize = o.localize;
+  initial.presegment = o.run_presegmentation;
+  reconfigure_->updateConfig(initial);
+  reconfigure_->setCallback(boost::bind(&TrackerNodelet::onReconfigure, this, boost::placeholders::_1,
+                                        boost::placeholders::_2));
   reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::onReset, this);
   add_srv_ = pnh.advertiseService("add_track", &TrackerNodelet::onAddTrack, this);
   remove_srv_ = pnh.advertiseService("remove_track", &TrackerNodelet::onRemoveTrack, this);
@@ -263,6 +274,19 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
   }
   array.status.push_back(s);
   diagnostics_pub_.publish(array);
+}
+
+void TrackerNodelet::onReconfigure(scene_graph_tracker::TrackerConfig& c, std::uint32_t) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  PipelineOptions o = pipeline_->options();
+  o.refiner.rounds = c.refine_rounds, o.refiner.steps = c.refine_steps;
+  o.refiner.max_dist_first = static_cast<float>(c.max_dist_first);
+  o.refiner.max_dist_last = static_cast<float>(c.max_dist_last);
+  o.association_distance = c.association_distance, o.remove_after_s = c.remove_after;
+  o.min_hypothesis_score = c.min_hypothesis_score, o.localize = c.localize, o.run_presegmentation = c.presegment;
+  pipeline_->setOptions(o);
+  NODELET_INFO("tracker: reconfigured (%d rounds x %d steps, thresholds %.3f -> %.3f m)", c.refine_rounds,
+               c.refine_steps, c.max_dist_first, c.max_dist_last);
 }
 
 bool TrackerNodelet::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

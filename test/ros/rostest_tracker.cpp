@@ -3,6 +3,7 @@
 // converge to the truth and coast when detections stop, that markers and unassigned points
 // appear, and that bad input (wrong encoding, camera_info size mismatch, all-NaN depth, missing
 // TF) gives warnings while the node keeps tracking.
+#include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -194,6 +195,19 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   const std::size_t before = objects_count_;
   run(4, false);
   EXPECT_GT(objects_count_, before);
+  EXPECT_LT(worstError(matched), 0.005);
+  EXPECT_EQ(matched, 5u);
+
+  // Run-time reconfiguration (dynamic_reconfigure): fewer rounds, still tracking.
+  dynamic_reconfigure::Reconfigure srv;
+  dynamic_reconfigure::IntParameter rounds;
+  rounds.name = "refine_rounds", rounds.value = 4;
+  srv.request.config.ints.push_back(rounds);
+  ASSERT_TRUE(::ros::service::call("/tracker/set_parameters", srv));
+  bool applied = false;
+  for (const auto& i : srv.response.config.ints) applied |= i.name == "refine_rounds" && i.value == 4;
+  EXPECT_TRUE(applied);
+  run(4, false);
   EXPECT_LT(worstError(matched), 0.005);
   EXPECT_EQ(matched, 5u);
 }

@@ -5,10 +5,12 @@
 // (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
 // map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
-// ~add_track, ~remove_track. Parameters: see config/tracker.yaml and the README.
+// ~add_track, ~remove_track. Parameters: see config/tracker.yaml and the README; thresholds,
+// iteration counts and switches also at run time (dynamic_reconfigure, cfg/Tracker.cfg).
 #pragma once
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/server.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
@@ -17,6 +19,7 @@
 #include <scene_graph_tracker/AddTrack.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 #include <scene_graph_tracker/RemoveTrack.h>
+#include <scene_graph_tracker/TrackerConfig.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -49,6 +52,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   void publish(const PipelineResult& r, const ::ros::Time& stamp);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
   void warn(const std::string& text);
+  void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);
 
   std::unique_ptr<FramePipeline> pipeline_;
   std::mutex mutex_;  // pipeline_ and the buffers below
@@ -70,6 +74,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   ::ros::Subscriber cloud_sub_, hypotheses_sub_;
   ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, diagnostics_pub_;
   ::ros::ServiceServer reset_srv_, add_srv_, remove_srv_;
+  std::unique_ptr<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>> reconfigure_;
+  boost::recursive_mutex reconfigure_mutex_;
 };
 
 }  // namespace sgt::ros
