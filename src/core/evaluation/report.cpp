@@ -90,7 +90,8 @@ std::string EvaluationReport::json() const {
   std::vector<double> lt, lr, total, loc, refine, preseg;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
-    total.push_back(f.times.total_ms), loc.push_back(f.times.localize_ms);
+    total.push_back(f.times.total_ms);
+    if (f.times.localize_ms > 0.05) loc.push_back(f.times.localize_ms);  // frames that localized (with a scan)
     refine.push_back(f.times.refine_ms), preseg.push_back(f.times.presegment_ms);
   }
   const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
