@@ -42,4 +42,21 @@ double rotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
 }
 
+Eigen::Isometry3d poseXyzYaw(const Eigen::Vector3d& t, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+const Building& coarseBuilding() {
+  static const Building building = [] {
+    BuildingOptions o;
+    o.target_triangles = 0;
+    o.tile_size = 1.0f;
+    return makeBuilding(o);
+  }();
+  return building;
+}
+
 }  // namespace sgt::test

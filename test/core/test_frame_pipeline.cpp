@@ -13,22 +13,13 @@
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/sensors/noise.hpp"
 #include "scene_graph_tracker/sensors/simulation.hpp"
+#include "support.hpp"
 
 namespace sgt {
 namespace {
 
-Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translate(t);
-  T.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
-  return T;
-}
-
 TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
-  BuildingOptions bo;
-  bo.target_triangles = 0;
-  bo.tile_size = 1.0f;
-  const Building building = makeBuilding(bo);
+  const Building& building = test::coarseBuilding();
   auto map = std::make_shared<TriangleMesh>(building.mesh);
   auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
 
@@ -42,20 +33,20 @@ TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
   for (std::size_t k = 0; k < classes.size(); ++k) {
     const ObjectClass& c = catalog->get(classes[k]);
     const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
-    truth.push_back(pose(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k]));
+    truth.push_back(test::poseXyzYaw(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k]));
     world.addInstance(10 + static_cast<NodeId>(k), world.addMesh(c.mesh), truth.back());
   }
   const NodeId unknown_box = 30;
   world.addInstance(unknown_box, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
-                    pose(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
+                    test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
   world.commit();
 
   // Robot 1.1 m in front of the bench; odometry believes it is 20 cm / 3 deg elsewhere.
-  const Eigen::Isometry3d T_map_base = pose(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
-  const Eigen::Isometry3d T_map_odom_true = pose(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
+  const Eigen::Isometry3d T_map_base = test::poseXyzYaw(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
+  const Eigen::Isometry3d T_map_odom_true = test::poseXyzYaw(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
   const Eigen::Isometry3d T_odom_base = T_map_odom_true.inverse() * T_map_base;
   const Eigen::Isometry3d T_base_camera = T_map_base.inverse() * opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), top);
-  const Eigen::Isometry3d T_base_lidar = pose(Eigen::Vector3d(0, 0, 0.9), 0.0);
+  const Eigen::Isometry3d T_base_lidar = test::poseXyzYaw(Eigen::Vector3d(0, 0, 0.9), 0.0);
   const PinholeModel cam = PinholeModel::xtion();
   auto cam_rays = std::make_shared<SensorRays>(makeRays(cam));
   auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
@@ -87,7 +78,7 @@ TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
                    T.linear();
       frame.hypotheses.push_back({classes[k], T_map_base.inverse() * T, 0.9});
     }
-    if (f == 0) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * pose(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
+    if (f == 0) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * test::poseXyzYaw(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
     r = pipeline.process(frame);
     dropped.insert(dropped.end(), r.dropped.begin(), r.dropped.end());
   }

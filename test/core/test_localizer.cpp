@@ -17,29 +17,14 @@ namespace {
 
 constexpr NodeId kMap = 1;
 
-Eigen::Isometry3d at(const Eigen::Vector3d& t, double yaw = 0.0) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
-
 // The generated building (coarser tessellation than the benchmark's, same geometry), a robot
 // at its start point with a VLP-16 0.9 m above the base and 1 cm range noise.
 class LocalizerTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    BuildingOptions o;
-    o.target_triangles = 0;
-    o.tile_size = 1.0f;
-    building_ = new Building(makeBuilding(o));
-  }
-  static void TearDownTestSuite() { delete building_; }
-
   void SetUp() override {
     scene_.setStaticMap(std::make_shared<TriangleMesh>(building_->mesh), kMap);
     scene_.commit();
-    T_map_base_ = at(building_->robot_start.cast<double>(), 0.3);
+    T_map_base_ = test::poseXyzYaw(building_->robot_start.cast<double>(), 0.3);
     rays_ = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
   }
 
@@ -55,13 +40,12 @@ class LocalizerTest : public ::testing::Test {
     return (a.translation() - b.translation()).norm();
   }
 
-  static Building* building_;
+  const Building* building_ = &test::coarseBuilding();
   RaycastScene scene_;
   Eigen::Isometry3d T_map_base_;
-  const Eigen::Isometry3d T_base_lidar_ = at({0.1, 0.0, 0.9});
+  const Eigen::Isometry3d T_base_lidar_ = test::poseXyzYaw({0.1, 0.0, 0.9});
   std::shared_ptr<SensorRays> rays_;
 };
-Building* LocalizerTest::building_ = nullptr;
 
 TEST_F(LocalizerTest, ConvergesFrom30cmAnd5DegStarts) {
   std::mt19937 rng(11);
@@ -89,7 +73,7 @@ TEST_F(LocalizerTest, ConvergesFromADepthCameraAndAScanTogether) {
   auto cam_rays = std::make_shared<SensorRays>(makeRays(cam));
   const Eigen::Isometry3d T_base_camera = opticalLookAt({0.1, 0, 1.2}, {1.1, 0, 0.9});
   const SimulatedScan s = simulate(scene_, *cam_rays, T_map_base_ * T_base_camera);
-  Eigen::Isometry3d prior = T_map_base_ * at({0.2, -0.2, 0}, 4.0 * M_PI / 180.0);
+  Eigen::Isometry3d prior = T_map_base_ * test::poseXyzYaw({0.2, -0.2, 0}, 4.0 * M_PI / 180.0);
   RangeMeasurements depth = fromDepthImage(cam, cam_rays, depthImage(s, *cam_rays), prior * T_base_camera);
   addDepthNoise(depth, 0.0015, 3);
   const LocalizeResult r = Localizer().localize(scene_, {depth, scanAt(prior)}, prior);
@@ -102,12 +86,12 @@ TEST_F(LocalizerTest, TrackedObjectsExplainTheirPointsButDoNotPull) {
   // A large crate right beside the robot, tracked 4 cm off its true place (inside the final threshold): if its points pulled
   // the robot, the robot would move with the crate's error.
   const MeshId crate = scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({1.0f, 1.0f, 1.2f})));
-  const Eigen::Isometry3d T_true = T_map_base_ * at({1.2, 0.0, 0.6});
+  const Eigen::Isometry3d T_true = T_map_base_ * test::poseXyzYaw({1.2, 0.0, 0.6});
   scene_.addInstance(20, crate, T_true);
   scene_.commit();
-  Eigen::Isometry3d prior = T_map_base_ * at({0.25, 0.1, 0}, -4.0 * M_PI / 180.0);
+  Eigen::Isometry3d prior = T_map_base_ * test::poseXyzYaw({0.25, 0.1, 0}, -4.0 * M_PI / 180.0);
   const RangeMeasurements m = scanAt(prior);
-  scene_.setInstancePose(20, T_true * at({0.04, 0.04, 0.0}));
+  scene_.setInstancePose(20, T_true * test::poseXyzYaw({0.04, 0.04, 0.0}));
   scene_.commit();
   const LocalizeResult r = Localizer().localize(scene_, {m}, prior);
   ASSERT_EQ(r.status, LocalizeStatus::kOk) << toString(r.status);
@@ -116,14 +100,14 @@ TEST_F(LocalizerTest, TrackedObjectsExplainTheirPointsButDoNotPull) {
 }
 
 TEST_F(LocalizerTest, KeepsThePriorWhenTheScanDoesNotFitTheMap) {
-  const Eigen::Isometry3d far_away = at({500.0, 500.0, 0.0});  // outside the building: no map hits
+  const Eigen::Isometry3d far_away = test::poseXyzYaw({500.0, 500.0, 0.0});  // outside the building: no map hits
   const LocalizeResult r = Localizer().localize(scene_, {scanAt(far_away)}, far_away);
   EXPECT_EQ(r.status, LocalizeStatus::kTooFewInliers);
   EXPECT_TRUE(r.T_map_base.isApprox(far_away));
 }
 
 TEST_F(LocalizerTest, KeepsThePriorWhenNoMeasurementIsValid) {
-  const Eigen::Isometry3d prior = T_map_base_ * at({0.1, 0, 0});
+  const Eigen::Isometry3d prior = T_map_base_ * test::poseXyzYaw({0.1, 0, 0});
   RangeMeasurements m = scanAt(prior);
   std::fill(m.range.begin(), m.range.end(), std::numeric_limits<float>::quiet_NaN());
   const LocalizeResult r = Localizer().localize(scene_, {m}, prior);
@@ -138,9 +122,9 @@ TEST(Localizer, FlagsAMapThatOnlyShowsAFloor) {
   scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({20, 20, 0.1f})), kMap);
   scene.commit();
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-  const Eigen::Isometry3d T_true = at({0, 0, 1.0});
+  const Eigen::Isometry3d T_true = test::poseXyzYaw({0, 0, 1.0});
   const SimulatedScan s = simulate(scene, *rays, T_true);
-  const Eigen::Isometry3d prior = at({0.2, 0.1, 1.0});
+  const Eigen::Isometry3d prior = test::poseXyzYaw({0.2, 0.1, 1.0});
   const LocalizeResult r =
       Localizer().localize(scene, {fromRanges(SpinningLidarModel::vlp16(), rays, s.range, prior)}, prior);
   EXPECT_EQ(r.status, LocalizeStatus::kDegenerate) << toString(r.status);

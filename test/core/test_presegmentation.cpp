@@ -10,17 +10,12 @@
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
 #include "scene_graph_tracker/sensors/noise.hpp"
 #include "scene_graph_tracker/sensors/simulation.hpp"
+#include "support.hpp"
 
 namespace sgt {
 namespace {
 
 constexpr NodeId kMap = 1, kTracked = 30;
-
-Eigen::Isometry3d at(const Eigen::Vector3d& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = t;
-  return T;
-}
 
 struct Scores {
   double precision, recall;
@@ -29,20 +24,12 @@ struct Scores {
 
 class PresegmentationTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    BuildingOptions o;
-    o.target_triangles = 0;
-    o.tile_size = 1.0f;
-    building_ = new Building(makeBuilding(o));
-  }
-  static void TearDownTestSuite() { delete building_; }
-
   void SetUp() override {
     scene_.setStaticMap(std::make_shared<TriangleMesh>(building_->mesh), kMap);
     base_ = building_->robot_start.cast<double>();
     // Distractors around the robot: three boxes and a person-sized cylinder.
     const auto add = [&](NodeId node, const TriangleMesh& mesh, const Eigen::Vector3d& p) {
-      scene_.addInstance(node, scene_.addMesh(std::make_shared<TriangleMesh>(mesh)), at(base_ + p));
+      scene_.addInstance(node, scene_.addMesh(std::make_shared<TriangleMesh>(mesh)), test::poseXyzYaw(base_ + p));
       distractors_.push_back(node);
     };
     add(40, makeBox({0.5f, 0.4f, 0.6f}), {1.8, 0.9, 0.3});
@@ -51,7 +38,7 @@ class PresegmentationTest : public ::testing::Test {
     add(43, makeCylinder(0.25f, 1.75f, 48), {2.2, -1.2, 0.875});
     // A known object the tracker has in its scene.
     scene_.addInstance(kTracked, scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.4f, 0.3f, 0.5f}))),
-                       at(base_ + Eigen::Vector3d(-1.5, -1.0, 0.25)));
+                       test::poseXyzYaw(base_ + Eigen::Vector3d(-1.5, -1.0, 0.25)));
     scene_.commit();
   }
 
@@ -96,17 +83,16 @@ class PresegmentationTest : public ::testing::Test {
             tp + fn};
   }
 
-  static Building* building_;
+  const Building* building_ = &test::coarseBuilding();
   RaycastScene scene_;
   Eigen::Vector3d base_;
   std::vector<NodeId> distractors_;
   Presegmentation result_;
 };
-Building* PresegmentationTest::building_ = nullptr;
 
 TEST_F(PresegmentationTest, LidarFindsTheUnknownThings) {
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-  const Scores s = run(SpinningLidarModel::vlp16(), rays, at(base_ + Eigen::Vector3d(0, 0, 0.9)));
+  const Scores s = run(SpinningLidarModel::vlp16(), rays, test::poseXyzYaw(base_ + Eigen::Vector3d(0, 0, 0.9)));
   ASSERT_GT(s.truth, 300u);  // the distractors are in view
   // The goals: precision >= 0.95, recall >= 0.98.
   EXPECT_GE(s.precision, 0.95);
@@ -127,11 +113,11 @@ TEST_F(PresegmentationTest, DepthCameraFindsTheUnknownThings) {
 TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
   // The tracker's scene has a panel (say a door leaf the map knows) that the world lost.
   const MeshId panel = scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.05f, 1.0f, 2.0f})));
-  scene_.addInstance(50, panel, at(base_ + Eigen::Vector3d(-0.8, 0.0, 1.0)));
+  scene_.addInstance(50, panel, test::poseXyzYaw(base_ + Eigen::Vector3d(-0.8, 0.0, 1.0)));
   scene_.setInstanceEnabled(50, false);
   scene_.commit();
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-  const Eigen::Isometry3d T = at(base_ + Eigen::Vector3d(0, 0, 0.9));
+  const Eigen::Isometry3d T = test::poseXyzYaw(base_ + Eigen::Vector3d(0, 0, 0.9));
   const SimulatedScan s = simulate(scene_, *rays, T);
   scene_.setInstanceEnabled(50, true);
   scene_.commit();
@@ -156,14 +142,14 @@ TEST(Presegmentation, InvalidAndEmptyInput) {
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
   RangeMeasurements m = fromRanges(SpinningLidarModel::vlp16(), rays,
                                    std::vector<float>(rays->size(), std::numeric_limits<float>::quiet_NaN()),
-                                   at({0, 0, 1}));
+                                   test::poseXyzYaw({0, 0, 1}));
   const Presegmentation p = presegment(scene, m);
   EXPECT_EQ(p.counts.invalid, rays->size());
   EXPECT_EQ(p.counts.valid(), 0u);
   EXPECT_TRUE(p.unknown_points.empty());
   EXPECT_EQ(p.counts.reduction(), 0.0);
   auto empty_rays = std::make_shared<SensorRays>();
-  const Presegmentation e = presegment(scene, fromRanges(SpinningLidarModel::vlp16(), empty_rays, {}, at({0, 0, 1})));
+  const Presegmentation e = presegment(scene, fromRanges(SpinningLidarModel::vlp16(), empty_rays, {}, test::poseXyzYaw({0, 0, 1})));
   EXPECT_TRUE(e.label.empty());
 }
 

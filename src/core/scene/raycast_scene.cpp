@@ -250,6 +250,24 @@ void RaycastScene::commit() {
   dirty_ = false;
 }
 
+namespace {
+
+// Fills lane k of a 16-ray packet; the hit starts out as "nothing".
+void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Vector3f& dir, float tnear, float tfar) {
+  rh.ray.org_x[k] = org.x(), rh.ray.org_y[k] = org.y(), rh.ray.org_z[k] = org.z();
+  rh.ray.dir_x[k] = dir.x(), rh.ray.dir_y[k] = dir.y(), rh.ray.dir_z[k] = dir.z();
+  rh.ray.tnear[k] = tnear;
+  rh.ray.tfar[k] = tfar;
+  rh.ray.time[k] = 0.0f;
+  rh.ray.mask[k] = 0xFFFFFFFFu;
+  rh.ray.id[k] = k;
+  rh.ray.flags[k] = 0;
+  rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
 void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
                         const TileSet* tiles, const CastLimit& limit) const {
   if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
@@ -287,18 +305,8 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
         }
         valid[k] = -1;
         index[k] = i;
-        const Eigen::Vector3f d = R * rays.directions[i];
-        const Eigen::Vector3f org = per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o;
-        rh.ray.org_x[k] = org.x(), rh.ray.org_y[k] = org.y(), rh.ray.org_z[k] = org.z();
-        rh.ray.dir_x[k] = d.x(), rh.ray.dir_y[k] = d.y(), rh.ray.dir_z[k] = d.z();
-        rh.ray.tnear[k] = rays.range_min;
-        rh.ray.tfar[k] = far;
-        rh.ray.time[k] = 0.0f;
-        rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = k;
-        rh.ray.flags[k] = 0;
-        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        setLane(rh, k, per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o, R * rays.directions[i],
+                rays.range_min, far);
       });
       rtcIntersect16(valid, scene, &context, &rh);
       for (int k = 0; k < 16; ++k)
@@ -320,17 +328,7 @@ void RaycastScene::cast(const std::vector<WorldRay>& rays, RayHits& hits) const 
         const std::size_t i = b * 16 + k;
         valid[k] = i < rays.size() ? -1 : 0;
         if (!valid[k]) continue;
-        const WorldRay& r = rays[i];
-        rh.ray.org_x[k] = r.origin.x(), rh.ray.org_y[k] = r.origin.y(), rh.ray.org_z[k] = r.origin.z();
-        rh.ray.dir_x[k] = r.direction.x(), rh.ray.dir_y[k] = r.direction.y(), rh.ray.dir_z[k] = r.direction.z();
-        rh.ray.tnear[k] = 0.0f;
-        rh.ray.tfar[k] = r.far;
-        rh.ray.time[k] = 0.0f;
-        rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = k;
-        rh.ray.flags[k] = 0;
-        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        setLane(rh, k, rays[i].origin, rays[i].direction, 0.0f, rays[i].far);
       }
       rtcIntersect16(valid, top_, &context, &rh);
       for (int k = 0; k < 16; ++k)
