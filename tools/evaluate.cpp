@@ -3,12 +3,16 @@
 //   rosrun scene_graph_tracker evaluate --bag IN.bag --output DIR
 //       [--map building|FILE.urdf|FILE.stl] [--catalog objects.yaml] [--mesh-dir DIR] [--no-plots]
 //       [--oracle-localization]   (robot pose from the bag's ground truth: objects scored alone)
+//       [--detector MODEL.yaml|default]  (hypotheses from the keypoint detector on the bag's RGB
+//                                         images instead of the bag's hypotheses topic)
 // Writes DIR/report.json, DIR/report.md, DIR/timeseries.csv and DIR/*.png, prints the table.
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
+#include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/ros/bag_frames.hpp"
@@ -21,12 +25,13 @@ struct Args {
   std::string bag, output, map = "building", catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", mesh_dir;
   bool plots = true;
   bool oracle_localization = false;  // robot pose from the ground truth: scores objects alone
+  std::string detector;              // model metadata YAML; empty: the bag's hypotheses
 };
 
 [[noreturn]] void usage(const std::string& error) {
   std::cerr << "evaluate: " << error
             << "\nusage: evaluate --bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
-               "[--no-plots] [--oracle-localization]\n";
+               "[--no-plots] [--oracle-localization] [--detector MODEL.yaml|default]\n";
   std::exit(2);
 }
 
@@ -45,9 +50,11 @@ Args parse(int argc, char** argv) {
     else if (k == "--mesh-dir") a.mesh_dir = value();
     else if (k == "--no-plots") a.plots = false;
     else if (k == "--oracle-localization") a.oracle_localization = true;
+    else if (k == "--detector") a.detector = value();
     else usage("unknown argument " + k);
   }
   if (a.bag.empty() || a.output.empty()) usage("--bag and --output are required");
+  if (a.detector == "default") a.detector = std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml";
   return a;
 }
 
@@ -64,6 +71,12 @@ int main(int argc, char** argv) {
     auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(args.catalog, args.mesh_dir));
     auto map = std::make_shared<TriangleMesh>(args.map == "building" ? makeBuilding().mesh : loadStaticMap(args.map));
     sgt::ros::BagFrameReader reader(args.bag);
+    std::unique_ptr<detection::PoseDetector> detector;
+    if (!args.detector.empty()) {
+      detector = std::make_unique<detection::PoseDetector>(args.detector, *catalog);
+      reader.setReadRgb(true);
+    }
+    std::size_t frames_without_rgb = 0;
     PipelineOptions options;
     options.localize = !args.oracle_localization;
     FramePipeline pipeline(catalog, map, options);
@@ -82,7 +95,23 @@ int main(int argc, char** argv) {
       }
       if (args.oracle_localization && bf.truth && bf.truth->T_map_base)
         pipeline.setMapOdom(*bf.truth->T_map_base * bf.frame.T_odom_base.inverse());
-      const PipelineResult r = pipeline.process(bf.frame);
+      double detect_ms = 0.0;
+      if (detector) {  // the detector is the only source of hypotheses
+        bf.frame.hypotheses.clear();
+        if (bf.rgb) {
+          const auto t0 = std::chrono::steady_clock::now();
+          const auto detections = detector->detect(bf.rgb->rgb, bf.rgb->camera);
+          detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          for (const auto& d : detections)
+            if (d.pnp.ok())
+              bf.frame.hypotheses.push_back(
+                  {d.detection.class_name, bf.rgb->T_base_camera * d.pnp.T_camera_object, d.detection.score});
+        } else {
+          ++frames_without_rgb;
+        }
+      }
+      PipelineResult r = pipeline.process(bf.frame);
+      r.times.detect_ms = detect_ms;
       report.addFrame(r.stamp, r.times);
       if (bf.truth) {
         const sgt::ros::GroundTruth& gt = *bf.truth;
@@ -134,6 +163,8 @@ int main(int argc, char** argv) {
       progress.update(++done);
     });
     progress.finish();
+    if (frames_without_rgb > 0)
+      std::cerr << "warning: " << frames_without_rgb << " frames had no colour image: no detections for them\n";
 
     std::filesystem::create_directories(args.output);
     std::ofstream(args.output + "/report.json") << report.json();

@@ -76,8 +76,9 @@ void BagFrameReader::forEach(const std::function<void(BagFrame&)>& f) {
     if (auto b = mi.instantiate<geometry_msgs::PoseStamped>()) truth_base[key(b->header.stamp)] = b;
   }
   // Pass 2: images and scans in time order; a frame is complete when a later message arrives.
-  sensor_msgs::CameraInfo::ConstPtr info;
+  sensor_msgs::CameraInfo::ConstPtr info, rgb_info;
   sensor_msgs::Image::ConstPtr pending;
+  std::map<Stamp, sensor_msgs::Image::ConstPtr> rgbs;  // arrived, not yet used
   std::vector<sensor_msgs::PointCloud2::ConstPtr> scans;  // arrived, not yet used
   std::map<Stamp, std::vector<std::uint8_t>> depth_labels, lidar_labels;
   std::vector<std::string> warnings;
@@ -108,6 +109,22 @@ void BagFrameReader::forEach(const std::function<void(BagFrame&)>& f) {
       warnings.clear();
       pending.reset();
       return;  // the frame is not usable without its depth image
+    }
+    if (read_rgb_) {
+      const Stamp k = key(pending->header.stamp);
+      if (auto c = rgbs.find(k); c != rgbs.end()) {
+        try {
+          if (!rgb_info) throw ConversionError("no " + topics_.rgb_info + " before the colour image");
+          RgbFrame rgb;
+          rgb.camera = toPinhole(*rgb_info);
+          rgb.rgb = rgbFromImage(*c->second, rgb.camera);
+          rgb.T_base_camera = lookup(topics_.base_frame, c->second->header.frame_id, c->second->header.stamp);
+          bf.rgb = std::move(rgb);
+        } catch (const std::exception& e) {
+          bf.warnings.push_back("colour image at " + std::to_string(pending->header.stamp.toSec()) + " skipped: " + e.what());
+        }
+      }
+      rgbs.erase(rgbs.begin(), rgbs.upper_bound(k));
     }
     // The newest scan not later than the image.
     sensor_msgs::PointCloud2::ConstPtr scan;
@@ -145,11 +162,21 @@ void BagFrameReader::forEach(const std::function<void(BagFrame&)>& f) {
   };
   for (const rosbag::MessageInstance& mi :
        rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.depth, topics_.depth_info, topics_.lidar, topics_.truth_depth_labels,
-                                             topics_.truth_lidar_labels}))) {
+                                             topics_.truth_lidar_labels, topics_.rgb, topics_.rgb_info}))) {
     const std::string& topic = mi.getTopic();
     ::ros::Time stamp = mi.getTime();
     if (topic == topics_.depth_info) {
       info = mi.instantiate<sensor_msgs::CameraInfo>();
+      continue;
+    }
+    if (topic == topics_.rgb_info) {
+      rgb_info = mi.instantiate<sensor_msgs::CameraInfo>();
+      continue;
+    }
+    if (topic == topics_.rgb) {
+      if (read_rgb_) {
+        if (auto img = mi.instantiate<sensor_msgs::Image>()) rgbs[key(img->header.stamp)] = img;
+      }
       continue;
     }
     if (auto img = mi.instantiate<sensor_msgs::Image>()) stamp = img->header.stamp;

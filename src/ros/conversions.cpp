@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/ros/conversions.hpp"
 
+#include <cv_bridge/cv_bridge.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -163,6 +164,22 @@ sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const
     *ring = static_cast<std::uint16_t>(i / rays.width);
   }
   return cloud;
+}
+
+cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
+  namespace enc = sensor_msgs::image_encodings;
+  if (img.width == 0 || img.height == 0 || img.data.empty()) throw ConversionError("colour image is empty");
+  if (static_cast<int>(img.width) != cam.width || static_cast<int>(img.height) != cam.height)
+    throw ConversionError("colour image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                          " but its camera_info says " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+  if (img.encoding != enc::RGB8 && img.encoding != enc::BGR8 && img.encoding != enc::RGBA8 &&
+      img.encoding != enc::BGRA8 && img.encoding != enc::MONO8)
+    throw ConversionError("colour image encoding '" + img.encoding + "' is not supported (use rgb8, bgr8, rgba8, bgra8 or mono8)");
+  try {
+    return cv_bridge::toCvCopy(img, enc::RGB8)->image;
+  } catch (const cv_bridge::Exception& e) {
+    throw ConversionError(std::string("colour image: ") + e.what());
+  }
 }
 
 }  // namespace sgt::ros

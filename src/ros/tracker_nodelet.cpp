@@ -95,12 +95,7 @@ void TrackerNodelet::onInit() {
 }
 
 void TrackerNodelet::warn(const std::string& text) {
-  // Each distinct problem at once, a repeated one at most every 2 s: bad input at 30 Hz must
-  // neither spam the log nor hide a new kind of problem.
-  const ::ros::WallTime now = ::ros::WallTime::now();
-  if (text == last_warning_ && (now - last_warning_time_).toSec() < 2.0) return;
-  last_warning_ = text, last_warning_time_ = now;
-  NODELET_WARN("tracker: %s", text.c_str());
+  if (warnings_.shouldLog(text)) NODELET_WARN("tracker: %s", text.c_str());
 }
 
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {

@@ -89,6 +89,9 @@ struct TrackedObject {
 
 struct StageTimes {
   double localize_ms = 0, associate_ms = 0, refine_ms = 0, presegment_ms = 0, total_ms = 0;
+  // Not part of the pipeline (total_ms excludes it): the detector's time for the frame's RGB
+  // image when the caller runs one (evaluate --detector); 0 otherwise.
+  double detect_ms = 0;
 };
 
 struct PipelineResult {

@@ -9,6 +9,8 @@
 
 #include <rosbag/bag.h>
 
+#include <opencv2/core.hpp>
+
 #include <map>
 #include <memory>
 #include <functional>
@@ -28,6 +30,8 @@ struct BagTopics {
   std::string depth = "/camera/depth_registered/image_raw";
   std::string depth_info = "/camera/depth_registered/camera_info";
   std::string lidar = "/velodyne_points";
+  std::string rgb = "/camera/rgb/image_raw";  // read only when BagFrameReader::setReadRgb(true)
+  std::string rgb_info = "/camera/rgb/camera_info";
   std::string hypotheses = "/simulated/pose_hypotheses";
   std::string truth_objects = "/ground_truth/objects";
   std::string truth_base = "/ground_truth/base_pose";
@@ -51,8 +55,16 @@ struct GroundTruth {
   std::vector<std::vector<std::uint8_t>> labels;  // per measurement set of the frame (may be empty)
 };
 
+// The colour image stamped like the frame's depth image (for a detector).
+struct RgbFrame {
+  cv::Mat rgb;  // 8-bit RGB
+  PinholeModel camera;
+  Eigen::Isometry3d T_base_camera = Eigen::Isometry3d::Identity();
+};
+
 struct BagFrame {
   PipelineFrame frame;
+  std::optional<RgbFrame> rgb;  // when reading RGB is on and the bag has the image
   std::optional<GroundTruth> truth;
   std::vector<std::string> warnings;  // what was skipped while building it, and why
 };
@@ -65,6 +77,8 @@ class BagFrameReader {
 
   std::size_t frameCount() const { return depth_count_; }
   bool hasGroundTruth() const { return has_truth_; }
+  // Also attach each frame's colour image (off by default: it costs decoding time).
+  void setReadRgb(bool on) { read_rgb_ = on; }
   // The bag's map -> odom prior: the simulator's (map_odom_prior topic) or, in a bag recorded
   // with a localizer running, its map -> odom on /tf at `stamp`; nullopt when it has neither.
   std::optional<Eigen::Isometry3d> mapToOdom(double stamp) const;
@@ -77,6 +91,7 @@ class BagFrameReader {
   std::unique_ptr<tf2::BufferCore> tf_;
   std::size_t depth_count_ = 0;
   bool has_truth_ = false;
+  bool read_rgb_ = false;
   std::optional<Eigen::Isometry3d> map_odom_prior_;
 };
 

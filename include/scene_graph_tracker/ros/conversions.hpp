@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 #include <vector>
 
@@ -34,6 +35,9 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam);
 // Depth image (32FC1 metres or 16UC1 millimetres, 0 = no return) as metres, NaN for no return.
 // Throws on another encoding or when its size differs from the camera model's.
 std::vector<float> depthFromImage(const sensor_msgs::Image& img, const PinholeModel& cam);
+// Colour image (rgb8, bgr8, rgba8, bgra8 or mono8) as an 8-bit 3-channel RGB matrix (a copy).
+// Throws on another encoding, an empty image, or a size that differs from the camera model's.
+cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam);
 sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, int height);  // 32FC1
 
 // A VLP-16 style cloud (fields x, y, z; optional intensity, ring) as ranges along the model's

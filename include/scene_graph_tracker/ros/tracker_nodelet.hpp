@@ -33,6 +33,7 @@
 #include <mutex>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/ros/warning_throttle.hpp"
 
 namespace sgt::ros {
 
@@ -62,8 +63,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::deque<sensor_msgs::PointCloud2ConstPtr> clouds_;
   std::deque<scene_graph_tracker::PoseHypothesisArrayConstPtr> hypotheses_;
   ::ros::Time last_stamp_;
-  std::string last_warning_;
-  ::ros::WallTime last_warning_time_;
+  WarningThrottle warnings_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

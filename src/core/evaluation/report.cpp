@@ -87,10 +87,11 @@ std::string EvaluationReport::json() const {
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
   for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
-  std::vector<double> lt, lr, total, loc, refine, preseg;
+  std::vector<double> lt, lr, total, loc, refine, preseg, detect;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
     total.push_back(f.times.total_ms);
+    if (f.times.detect_ms > 0) detect.push_back(f.times.detect_ms);
     if (f.times.localize_ms > 0.05) loc.push_back(f.times.localize_ms);  // frames that localized (with a scan)
     refine.push_back(f.times.refine_ms), preseg.push_back(f.times.presegment_ms);
   }
@@ -121,7 +122,7 @@ std::string EvaluationReport::json() const {
     << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5)) << ",\n    \"frame_ms_p95\": "
     << num(quantile(total, 0.95)) << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
     << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5)) << ",\n    \"presegment_ms_median\": "
-    << num(quantile(preseg, 0.5)) << "\n  }\n}\n";
+    << num(quantile(preseg, 0.5)) << ",\n    \"detect_ms_median\": " << num(quantile(detect, 0.5)) << "\n  }\n}\n";
   return o.str();
 }
 

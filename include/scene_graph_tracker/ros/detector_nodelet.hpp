@@ -1,0 +1,44 @@
+// The keypoint detector as a nodelet: RGB image + camera_info in, pose hypotheses out.
+//
+// Subscribes: image (rgb8/bgr8/rgba8/bgra8/mono8) and camera_info, synchronised. Publishes:
+// ~pose_hypotheses (PoseHypothesisArray, poses in the image's frame, stamped like the image) —
+// what the tracker consumes — and ~debug_image (rgb8 with boxes, cuboids and keypoints) when
+// someone subscribes to it. Parameters: model (metadata YAML of the ONNX model), catalog,
+// mesh_dir, score_threshold, nms_iou, min_visibility, max_reprojection_px. Bad input is warned
+// about (throttled) and skipped; the nodelet keeps running.
+#pragma once
+
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include <memory>
+#include <mutex>
+
+#include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/ros/warning_throttle.hpp"
+
+namespace sgt::ros {
+
+class DetectorNodelet : public nodelet::Nodelet {
+ public:
+  void onInit() override;
+
+ private:
+  using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
+  void onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info);
+
+  std::unique_ptr<detection::PoseDetector> detector_;
+  std::mutex mutex_;
+  WarningThrottle warnings_;
+  message_filters::Subscriber<sensor_msgs::Image> image_sub_;
+  message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
+  ::ros::Publisher hypotheses_pub_, debug_pub_;
+};
+
+}  // namespace sgt::ros

@@ -1,0 +1,77 @@
+#include "scene_graph_tracker/ros/detector_nodelet.hpp"
+
+#include <boost/bind/bind.hpp>
+#include <cv_bridge/cv_bridge.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <scene_graph_tracker/PoseHypothesisArray.h>
+
+#include "scene_graph_tracker/detection/debug_drawing.hpp"
+#include "scene_graph_tracker/ros/conversions.hpp"
+
+namespace sgt::ros {
+
+void DetectorNodelet::onInit() {
+  ::ros::NodeHandle& nh = getNodeHandle();
+  ::ros::NodeHandle& pnh = getPrivateNodeHandle();
+  const std::string model = pnh.param<std::string>("model", std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml");
+  const std::string catalog_path = pnh.param<std::string>("catalog", std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  const std::string mesh_dir = pnh.param<std::string>("mesh_dir", "");
+  detection::DecodeOptions decode;
+  decode.score_threshold = static_cast<float>(pnh.param("score_threshold", double(decode.score_threshold)));
+  decode.nms_iou = static_cast<float>(pnh.param("nms_iou", double(decode.nms_iou)));
+  detection::PnpOptions pnp;
+  pnp.min_visibility = static_cast<float>(pnh.param("min_visibility", double(pnp.min_visibility)));
+  pnp.max_reprojection_px = pnh.param("max_reprojection_px", pnp.max_reprojection_px);
+  try {
+    const ObjectCatalog catalog = loadObjectCatalog(catalog_path, mesh_dir);
+    detector_ = std::make_unique<detection::PoseDetector>(model, catalog, decode, pnp);
+  } catch (const std::exception& e) {
+    // Without a model there is nothing to do; say so loudly once and stay up (the rest of the
+    // manager keeps running, the tracker can still use other hypothesis sources).
+    NODELET_ERROR("detector: disabled: %s", e.what());
+    return;
+  }
+  const auto& info = detector_->keypoints().info();
+  NODELET_INFO("detector: %s (%dx%d input, %zu classes), score >= %.2f", info.onnx_path.c_str(), info.input_width,
+               info.input_height, info.names.size(), decode.score_threshold);
+  hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
+  debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
+  image_sub_.subscribe(nh, "image", 2);
+  info_sub_.subscribe(nh, "camera_info", 2);
+  sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_, info_sub_);
+  sync_->registerCallback(boost::bind(&DetectorNodelet::onImage, this, boost::placeholders::_1, boost::placeholders::_2));
+}
+
+void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<detection::ObjectDetection> detections;
+  cv::Mat rgb;
+  try {
+    const PinholeModel cam = toPinhole(*info);
+    rgb = rgbFromImage(*image, cam);
+    detections = detector_->detect(rgb, cam);
+  } catch (const std::exception& e) {
+    const std::string text = std::string("image skipped: ") + e.what();
+    if (warnings_.shouldLog(text)) NODELET_WARN("detector: %s", text.c_str());
+    return;
+  }
+  scene_graph_tracker::PoseHypothesisArray out;
+  out.header = image->header;
+  for (const auto& d : detections) {
+    if (!d.pnp.ok()) continue;
+    scene_graph_tracker::PoseHypothesis h;
+    h.class_name = d.detection.class_name;
+    h.pose = toPose(d.pnp.T_camera_object);
+    h.score = d.detection.score;
+    out.hypotheses.push_back(h);
+  }
+  hypotheses_pub_.publish(out);
+  if (debug_pub_.getNumSubscribers() > 0) {
+    detection::drawDetections(rgb, detections, detector_->pnpOptions().min_visibility);
+    debug_pub_.publish(cv_bridge::CvImage(image->header, "rgb8", rgb).toImageMsg());
+  }
+}
+
+}  // namespace sgt::ros
+
+PLUGINLIB_EXPORT_CLASS(sgt::ros::DetectorNodelet, nodelet::Nodelet)
