@@ -92,16 +92,16 @@ TEST(DecodeYoloPose, HandMadeTensorGivesBoxesAndKeypointsInImagePixels) {
   EXPECT_EQ(relay.class_name, "relay");
   EXPECT_EQ(relay.class_id, 0);
   EXPECT_FLOAT_EQ(relay.score, 0.9f);
-  // input (80..120, 110..170) → image ((80-0)*2, (110-40)*2) ...
-  EXPECT_TRUE(relay.box_min.isApprox(Eigen::Vector2d(160, 140)));
-  EXPECT_TRUE(relay.box_max.isApprox(Eigen::Vector2d(240, 260)));
+  // input (80..120, 110..170) → continuous image ((80-0)*2, (110-40)*2) ... → pixel centres -0.5
+  EXPECT_TRUE(relay.box_min.isApprox(Eigen::Vector2d(159.5, 139.5)));
+  EXPECT_TRUE(relay.box_max.isApprox(Eigen::Vector2d(239.5, 259.5)));
   ASSERT_EQ(relay.keypoints.size(), 2u);
-  EXPECT_TRUE(relay.keypoints[0].px.isApprox(Eigen::Vector2d(180, 160)));
+  EXPECT_TRUE(relay.keypoints[0].px.isApprox(Eigen::Vector2d(179.5, 159.5)));
   EXPECT_FLOAT_EQ(relay.keypoints[0].visibility, 0.95f);
-  EXPECT_TRUE(relay.keypoints[1].px.isApprox(Eigen::Vector2d(220, 240)));
+  EXPECT_TRUE(relay.keypoints[1].px.isApprox(Eigen::Vector2d(219.5, 239.5)));
   EXPECT_FLOAT_EQ(relay.keypoints[1].visibility, 0.2f);
   EXPECT_EQ(dets[1].class_name, "klt");
-  EXPECT_TRUE(dets[1].box_min.isApprox(Eigen::Vector2d(420, 280)));
+  EXPECT_TRUE(dets[1].box_min.isApprox(Eigen::Vector2d(419.5, 279.5)));
 }
 
 TEST(DecodeYoloPose, WrongChannelCountIsRefusedWithTheNumbers) {

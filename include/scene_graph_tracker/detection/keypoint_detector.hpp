@@ -50,7 +50,8 @@ struct ModelInfo {
 //   swap_rb: false                   # optional; true when the network takes BGR
 ModelInfo loadModelInfo(const std::string& yaml_path);
 
-// Where the image lands in the network input: input = image * scale + pad.
+// Where the image lands in the network input: input = image * scale + pad, both in continuous
+// coordinates (pixel (0, 0) covers [0, 1) x [0, 1), the convention of ultralytics' labels).
 struct Letterbox {
   double scale = 1.0;
   double pad_x = 0.0, pad_y = 0.0;
@@ -69,7 +70,7 @@ Letterbox letterboxGeometry(int image_width, int image_height, int input_width, 
 cv::Mat letterbox(const cv::Mat& image, const Letterbox& lb, int pad_value);
 
 struct Keypoint {
-  Eigen::Vector2d px = Eigen::Vector2d::Zero();  // image pixels
+  Eigen::Vector2d px = Eigen::Vector2d::Zero();  // image pixels, centre of pixel (0, 0) at (0, 0) as in camera_info's K
   float visibility = 0.0f;                       // 0..1
 };
 
@@ -77,7 +78,7 @@ struct Detection {
   int class_id = -1;
   std::string class_name;
   float score = 0.0f;
-  Eigen::Vector2d box_min = Eigen::Vector2d::Zero(), box_max = Eigen::Vector2d::Zero();  // image px
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero(), box_max = Eigen::Vector2d::Zero();  // image px, as keypoints
   std::vector<Keypoint> keypoints;
 };
 

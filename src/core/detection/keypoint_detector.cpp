@@ -94,6 +94,17 @@ std::vector<Detection> nonMaximumSuppression(std::vector<Detection> detections, 
   return kept;
 }
 
+namespace {
+
+// Network coordinates are continuous (pixel (0, 0) covers [0, 1) x [0, 1), as in ultralytics'
+// labels); image pixels here are pixel-centre coordinates like camera_info's K (centre of pixel
+// (0, 0) at 0, 0).
+Eigen::Vector2d toPixel(const Letterbox& lb, const Eigen::Vector2d& input) {
+  return lb.toImage(input) - Eigen::Vector2d(0.5, 0.5);
+}
+
+}  // namespace
+
 std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info, const Letterbox& lb,
                                       const DecodeOptions& options) {
   if (output.dims != 3 || output.size[0] != 1 || output.type() != CV_32F) {
@@ -121,12 +132,12 @@ std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& in
     d.class_name = info.names[best];
     d.score = score;
     const Eigen::Vector2d centre(at(0, a), at(1, a)), half(0.5 * at(2, a), 0.5 * at(3, a));
-    d.box_min = lb.toImage(centre - half);
-    d.box_max = lb.toImage(centre + half);
+    d.box_min = toPixel(lb, centre - half);
+    d.box_max = toPixel(lb, centre + half);
     d.keypoints.resize(info.keypoints);
     for (int k = 0; k < info.keypoints; ++k) {
       const int c = 4 + nc + 3 * k;
-      d.keypoints[k].px = lb.toImage(Eigen::Vector2d(at(c, a), at(c + 1, a)));
+      d.keypoints[k].px = toPixel(lb, Eigen::Vector2d(at(c, a), at(c + 1, a)));
       d.keypoints[k].visibility = at(c + 2, a);
     }
     candidates.push_back(std::move(d));

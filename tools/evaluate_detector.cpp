@@ -1,0 +1,234 @@
+// Evaluates a keypoint model on held-out rendered frames (a dataset written by render_dataset):
+// detection precision / recall (IoU >= 0.5, same class), keypoint error of matched detections
+// (px, over keypoints labelled inside the image), PnP initial pose error (translation mm, rotation
+// degrees symmetry-aware, ADD-S mm) and inference time per frame (median, ms).
+//   rosrun scene_graph_tracker evaluate_detector --dataset DIR --model MODEL.yaml --output OUT
+//       [--catalog objects.yaml] [--limit N] [--debug-images K]
+// Writes OUT/report.json and OUT/debug_*.png (the first K frames with drawn detections).
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "scene_graph_tracker/detection/debug_drawing.hpp"
+#include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+#include "scene_graph_tracker/util/progress_bar.hpp"
+
+namespace fs = std::filesystem;
+using namespace sgt;
+
+namespace {
+
+struct Args {
+  std::string dataset, model, output, catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  std::size_t limit = 0;
+  int debug_images = 8;
+};
+
+[[noreturn]] void usage(const std::string& error) {
+  std::cerr << "evaluate_detector: " << error
+            << "\nusage: evaluate_detector --dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] "
+               "[--debug-images K]\n";
+  std::exit(2);
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(k + " needs a value");
+      return argv[++i];
+    };
+    if (k == "--dataset") a.dataset = value();
+    else if (k == "--model") a.model = value();
+    else if (k == "--output") a.output = value();
+    else if (k == "--catalog") a.catalog = value();
+    else if (k == "--limit") a.limit = std::stoul(value());
+    else if (k == "--debug-images") a.debug_images = std::stoi(value());
+    else usage("unknown argument " + k);
+  }
+  if (a.dataset.empty() || a.model.empty() || a.output.empty()) usage("--dataset, --model and --output are required");
+  return a;
+}
+
+struct TruthObject {
+  std::string class_name;
+  Eigen::Isometry3d T_camera_object;
+  Eigen::Vector2d box_min, box_max;  // pixel-centre coordinates
+  std::vector<std::optional<Eigen::Vector2d>> keypoints;
+};
+
+Eigen::Isometry3d matrix(const YAML::Node& m) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) T.matrix()(r, c) = m[r][c].as<double>();
+  return T;
+}
+
+// poses/NAME.json and labels/NAME.txt list the same objects in the same order.
+std::vector<TruthObject> readTruth(const fs::path& dir, const std::string& name, PinholeModel& camera) {
+  const YAML::Node j = YAML::LoadFile((dir / "poses" / (name + ".json")).string());
+  camera.width = j["width"].as<int>(), camera.height = j["height"].as<int>();
+  camera.fx = j["K"][0].as<double>(), camera.cx = j["K"][2].as<double>();
+  camera.fy = j["K"][4].as<double>(), camera.cy = j["K"][5].as<double>();
+  std::vector<TruthObject> out;
+  for (const auto& o : j["objects"]) out.push_back({o["class"].as<std::string>(), matrix(o["T_camera_object"]), {}, {}, {}});
+  std::ifstream labels(dir / "labels" / (name + ".txt"));
+  const double W = camera.width, H = camera.height;
+  for (TruthObject& t : out) {
+    double cls, cx, cy, w, h;
+    if (!(labels >> cls >> cx >> cy >> w >> h)) throw std::runtime_error("labels/" + name + ".txt: fewer lines than objects");
+    t.box_min = Eigen::Vector2d((cx - w / 2) * W - 0.5, (cy - h / 2) * H - 0.5);
+    t.box_max = Eigen::Vector2d((cx + w / 2) * W - 0.5, (cy + h / 2) * H - 0.5);
+    for (int k = 0; k < detection::kCuboidKeypoints; ++k) {
+      double x, y, v;
+      labels >> x >> y >> v;
+      t.keypoints.push_back(v > 0 ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(x * W - 0.5, y * H - 0.5)) : std::nullopt);
+    }
+  }
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? NAN : s / v.size();
+}
+
+struct ClassStats {
+  std::size_t truths = 0, detections = 0, matched = 0, pnp_ok = 0;
+  std::vector<double> kp_px, t_mm, r_deg, adds_mm;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args args = parse(argc, argv);
+  try {
+    const ObjectCatalog catalog = loadObjectCatalog(args.catalog);
+    detection::PoseDetector detector(args.model, catalog);
+    std::map<std::string, std::vector<Eigen::Vector3f>> model_points;
+    for (const std::string& c : catalog.names()) model_points[c] = sampleSurface(*catalog.get(c).mesh, 500, 1).points;
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(fs::path(args.dataset) / "images"))
+      if (e.path().extension() == ".png") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    if (args.limit && names.size() > args.limit) names.resize(args.limit);
+    if (names.empty()) throw std::runtime_error("no images in " + args.dataset + "/images");
+    fs::create_directories(args.output);
+
+    std::map<std::string, ClassStats> per;
+    std::vector<double> infer_ms;
+    ProgressBar progress("evaluate_detector", names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      PinholeModel camera;
+      const auto truth = readTruth(args.dataset, names[i], camera);
+      cv::Mat bgr = cv::imread((fs::path(args.dataset) / "images" / (names[i] + ".png")).string(), cv::IMREAD_COLOR);
+      if (bgr.empty()) throw std::runtime_error("cannot read image " + names[i]);
+      cv::Mat rgb;
+      cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto dets = detector.detect(rgb, camera);
+      infer_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      for (const auto& t : truth) ++per[t.class_name].truths;
+      // Greedy matching by score: each detection to the unmatched truth of its class with the best IoU >= 0.5.
+      std::vector<char> used(truth.size(), 0);
+      for (const auto& d : dets) {
+        ClassStats& s = per[d.detection.class_name];
+        ++s.detections;
+        std::size_t best = truth.size();
+        double best_iou = 0.5;
+        for (std::size_t k = 0; k < truth.size(); ++k) {
+          if (used[k] || truth[k].class_name != d.detection.class_name) continue;
+          detection::Detection tb;
+          tb.box_min = truth[k].box_min, tb.box_max = truth[k].box_max;
+          const double iou = detection::iou(d.detection, tb);
+          if (iou >= best_iou) best_iou = iou, best = k;
+        }
+        if (best == truth.size()) continue;
+        used[best] = 1;
+        ++s.matched;
+        for (std::size_t k = 0; k < truth[best].keypoints.size() && k < d.detection.keypoints.size(); ++k)
+          if (truth[best].keypoints[k]) s.kp_px.push_back((d.detection.keypoints[k].px - *truth[best].keypoints[k]).norm());
+        if (d.pnp.ok() && catalog.contains(d.detection.class_name)) {
+          ++s.pnp_ok;
+          const PoseErrors e = poseErrors(catalog.get(d.detection.class_name), model_points[d.detection.class_name],
+                                          d.pnp.T_camera_object, truth[best].T_camera_object);
+          s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg), s.adds_mm.push_back(e.add_s * 1000);
+        }
+      }
+      if (static_cast<int>(i) < args.debug_images) {
+        detection::drawDetections(rgb, dets);
+        cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+        cv::imwrite((fs::path(args.output) / ("debug_" + names[i] + ".png")).string(), bgr);
+      }
+      progress.update(i + 1);
+    }
+    progress.finish();
+
+    ClassStats all;
+    for (const auto& [c, s] : per) {
+      all.truths += s.truths, all.detections += s.detections, all.matched += s.matched, all.pnp_ok += s.pnp_ok;
+      for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg, &ClassStats::adds_mm})
+        (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
+    }
+    const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
+    const auto num = [](double x) {
+      std::ostringstream o;
+      if (std::isfinite(x)) o << std::setprecision(4) << x; else o << "null";
+      return o.str();
+    };
+    const auto stats_json = [&](const ClassStats& s, const std::string& indent) {
+      std::ostringstream o;
+      o << indent << "\"truths\": " << s.truths << ", \"detections\": " << s.detections << ", \"matched\": " << s.matched
+        << ",\n" << indent << "\"precision\": " << num(ratio(s.matched, s.detections))
+        << ", \"recall\": " << num(ratio(s.matched, s.truths)) << ",\n"
+        << indent << "\"keypoint_error_px_mean\": " << num(mean(s.kp_px)) << ", \"keypoint_error_px_median\": "
+        << num(median(s.kp_px)) << ",\n"
+        << indent << "\"pnp_ok\": " << s.pnp_ok << ", \"pnp_translation_error_mm_median\": " << num(median(s.t_mm))
+        << ", \"pnp_rotation_error_deg_median\": " << num(median(s.r_deg)) << ", \"pnp_add_s_mm_median\": "
+        << num(median(s.adds_mm));
+      return o.str();
+    };
+    std::ostringstream j;
+    j << "{\n  \"frames\": " << names.size() << ",\n  \"model\": \"" << args.model << "\",\n"
+      << "  \"inference_ms_median\": " << num(median(infer_ms)) << ",\n  \"all\": {\n" << stats_json(all, "    ")
+      << "\n  },\n  \"per_class\": {";
+    bool first = true;
+    for (const auto& [c, s] : per) {
+      j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ") << "\n    }";
+      first = false;
+    }
+    j << "\n  }\n}\n";
+    std::ofstream(fs::path(args.output) / "report.json") << j.str();
+
+    std::cout << "\n| class | truths | precision | recall | keypoint px (median) | PnP ok | PnP t mm (median) | R deg | ADD-S mm |\n"
+              << "|---|---|---|---|---|---|---|---|---|\n";
+    const auto row = [&](const std::string& name, const ClassStats& s) {
+      std::cout << "| " << name << " | " << s.truths << " | " << num(ratio(s.matched, s.detections)) << " | "
+                << num(ratio(s.matched, s.truths)) << " | " << num(median(s.kp_px)) << " | " << s.pnp_ok << " | "
+                << num(median(s.t_mm)) << " | " << num(median(s.r_deg)) << " | " << num(median(s.adds_mm)) << " |\n";
+    };
+    for (const auto& [c, s] : per) row(c, s);
+    row("**all**", all);
+    std::cout << "\ninference (detector incl. letterbox + decoding + PnP) median " << num(median(infer_ms))
+              << " ms per frame. Report: " << args.output << "/report.json\n";
+  } catch (const std::exception& e) {
+    std::cerr << "evaluate_detector: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
