@@ -59,4 +59,27 @@ const Building& coarseBuilding() {
   return building;
 }
 
+std::unique_ptr<BenchScene> benchScene() {
+  auto b = std::make_unique<BenchScene>();
+  const Building& building = coarseBuilding();
+  b->map = std::make_shared<TriangleMesh>(building.mesh);
+  b->catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  b->world = std::make_unique<RaycastScene>();
+  b->world->setStaticMap(b->map, 1);
+  b->top = building.workbench_top_centre.cast<double>();
+  b->classes = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
+  const double xs[5] = {-0.45, -0.2, 0.02, 0.3, 0.55}, yaws[5] = {0.3, -0.5, 0.1, 0.2, -0.2};
+  for (std::size_t k = 0; k < b->classes.size(); ++k) {
+    const ObjectClass& c = b->catalog->get(b->classes[k]);
+    const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
+    b->truth.push_back(poseXyzYaw(b->top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k]));
+    b->world->addInstance(BenchScene::objectNode(k), b->world->addMesh(c.mesh), b->truth.back());
+  }
+  b->world->commit();
+  b->T_map_base = poseXyzYaw(Eigen::Vector3d(b->top.x(), b->top.y() + 1.1, 0.0), -M_PI / 2);
+  b->T_base_camera = b->T_map_base.inverse() * opticalLookAt(b->T_map_base * Eigen::Vector3d(0.1, 0, 1.25), b->top);
+  b->T_base_lidar = poseXyzYaw(Eigen::Vector3d(0, 0, 0.9), 0.0);
+  return b;
+}
+
 }  // namespace sgt::test

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+#include "scene_graph_tracker/sensors/sensor_models.hpp"
 
 namespace sgt::test {
 
@@ -29,6 +33,22 @@ Eigen::Isometry3d poseXyzYaw(const Eigen::Vector3d& t, double yaw = 0.0);
 // The generated building with a coarse tessellation (1 m quads; same rooms, furniture and
 // workbench as the benchmarks' 411k-triangle one), built once per test program.
 const Building& coarseBuilding();
+
+// The workbench of the coarse building with the five catalog classes along it (multimeter,
+// screwdriver, materialbox, klt, relay; object nodes 10..14) resting on its top, committed in a
+// ray-casting scene that also holds the static map (node 1). `robot` stands 1.1 m in front of the
+// bench facing it; `T_base_camera` looks at the bench top from 1.25 m height.
+struct BenchScene {
+  std::shared_ptr<TriangleMesh> map;
+  std::shared_ptr<ObjectCatalog> catalog;
+  std::unique_ptr<RaycastScene> world;
+  Eigen::Vector3d top;  // centre of the bench top
+  std::vector<std::string> classes;
+  std::vector<Eigen::Isometry3d> truth;  // T_map_object per class
+  Eigen::Isometry3d T_map_base, T_base_camera, T_base_lidar;
+  static NodeId objectNode(std::size_t k) { return static_cast<NodeId>(10 + k); }
+};
+std::unique_ptr<BenchScene> benchScene();
 
 // Angle of the rotation between two orientations, degrees.
 double rotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);

@@ -19,34 +19,18 @@ namespace sgt {
 namespace {
 
 TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
-  const Building& building = test::coarseBuilding();
-  auto map = std::make_shared<TriangleMesh>(building.mesh);
-  auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
-
-  // The world: map, the five objects along the bench, an unknown box on the bench.
-  RaycastScene world;
-  world.setStaticMap(map, 1);
-  const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();
-  const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
-  const double xs[5] = {-0.45, -0.2, 0.02, 0.3, 0.55}, yaws[5] = {0.3, -0.5, 0.1, 0.2, -0.2};
-  std::vector<Eigen::Isometry3d> truth;
-  for (std::size_t k = 0; k < classes.size(); ++k) {
-    const ObjectClass& c = catalog->get(classes[k]);
-    const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
-    truth.push_back(test::poseXyzYaw(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k]));
-    world.addInstance(10 + static_cast<NodeId>(k), world.addMesh(c.mesh), truth.back());
-  }
+  const auto bench = test::benchScene();
+  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera, T_base_lidar] = *bench;
+  RaycastScene& world = *world_ptr;
+  // An unknown box on the bench.
   const NodeId unknown_box = 30;
   world.addInstance(unknown_box, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
                     test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
   world.commit();
 
   // Robot 1.1 m in front of the bench; odometry believes it is 20 cm / 3 deg elsewhere.
-  const Eigen::Isometry3d T_map_base = test::poseXyzYaw(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
   const Eigen::Isometry3d T_map_odom_true = test::poseXyzYaw(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
   const Eigen::Isometry3d T_odom_base = T_map_odom_true.inverse() * T_map_base;
-  const Eigen::Isometry3d T_base_camera = T_map_base.inverse() * opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), top);
-  const Eigen::Isometry3d T_base_lidar = test::poseXyzYaw(Eigen::Vector3d(0, 0, 0.9), 0.0);
   const PinholeModel cam = PinholeModel::xtion();
   auto cam_rays = std::make_shared<SensorRays>(makeRays(cam));
   auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));

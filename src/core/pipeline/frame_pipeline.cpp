@@ -139,7 +139,11 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
       o.T_map_object = t.filter.pose();
       const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
-      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate;
+      // A degenerate fit (planar inliers) is no evidence of absence when the object shows what
+      // it should, but it is when those few inliers are all it shows: an object taken from a
+      // table leaves a handful of table points along its former bottom edge, in one plane.
+      const bool explained = o.quality.inlier_ratio >= options_.refiner.min_inlier_ratio;
+      const bool absent = should_show && (o.quality.status != RefineStatus::kDegenerate || !explained);
       if (absent && t.absent_since < 0.0) t.absent_since = stamp;
       if (!absent) t.absent_since = -1.0;
       if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
