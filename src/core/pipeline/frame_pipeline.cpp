@@ -163,7 +163,9 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
       if (child) t.filter.update(graph_.worldTransform(o.node), C_follow, &catalog_->get(o.class_name).symmetry);
       o.T_map_object = child ? graph_.worldTransform(o.node) : t.filter.pose();
       const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
-      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate;
+      // A child (in / on another track) is hidden by its parent more than the rays know (a relay
+      // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
+      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate && !child;
       if (absent && t.absent_since < 0.0) t.absent_since = stamp;
       if (!absent) t.absent_since = -1.0;
       if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
@@ -244,7 +246,9 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     scene_.commit();
   }
   out.times.refine_ms = msSince(t0);
+  t0 = Clock::now();
   if (options_.compute_relations) updateRelations(out, sets);
+  out.times.relations_ms = msSince(t0);
 
   // 4. Pre-segment every measurement against the map and the tracked objects.
   t0 = Clock::now();
