@@ -128,7 +128,9 @@ int main(int argc, char** argv) {
           std::string track;
           if (best < r.objects.size()) {
             track = r.objects[best].id;
-            track_to_object[track] = t.id;
+            // Relations are judged between objects in the scene graph (confirmed or lost tracks)
+            // estimated within 10 cm: tracking failures are the objects.* figures' business.
+            if (r.objects[best].state != TrackState::kTentative && best_d < 0.1) track_to_object[track] = t.id;
             used[best] = 1;
             e = poseErrors(catalog->get(t.class_name), model_points[t.class_name], r.objects[best].T_map_object,
                            t.T_map_object);

@@ -1,6 +1,8 @@
 // Scoring the tracker's relation edges against a scenario's declared relations, frame by frame.
 //
-// In a frame at scenario time t, with the evaluator's track -> object matching of that frame:
+// In a frame at scenario time t, with the evaluator's track -> object matching of that frame
+// (tools/evaluate passes only confirmed or lost tracks, those in the scene graph, matched within
+// 10 cm of the true position: a tracking failure is not a relation error):
 //   - predicted edges are renamed to scenario ids (subject and object tracks matched to objects;
 //     furniture names such as "workbench" stay); edges naming an unmatched track are not judged;
 //   - a declaration is judged when its subject (and its object, unless furniture) is matched to a
