@@ -20,7 +20,8 @@
 // disappear_frames) and returned as edges. With `reparent`, a track that is in or on another
 // track becomes its child in the scene graph (world pose unchanged), and back under the world when
 // that ends. A child is predicted with its parent: it keeps its pose relative to the parent, so
-// a relay inside a carried KLT moves with it even while the KLT's walls hide it.
+// a relay inside a carried KLT moves with it even while the KLT's walls hide it; a child gathers
+// no evidence of absence (it goes when the relation ends and it is then seen missing).
 #pragma once
 
 #include <map>
@@ -107,6 +108,7 @@ struct StageTimes {
   // Not part of the pipeline (total_ms excludes it): the detector's time for the frame's RGB
   // image when the caller runs one (evaluate --detector); 0 otherwise.
   double detect_ms = 0;
+  double relations_ms = 0;
 };
 
 struct PipelineResult {

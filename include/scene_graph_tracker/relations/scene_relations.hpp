@@ -4,11 +4,13 @@
 //   in(T, R):  R's box contains T's (tolerance box.tolerance), or T rests by rays on R while
 //              its box intersects R's and its lowest point lies below R's top (a relay standing
 //              on the floor of a KLT and sticking out above the rim).
-//   on(T, R):  not in(T, R), and either T rests by rays on R (share of rays >= min_support), or
-//              the relaxed box "on" holds (top projection intersects T, distance < on_max_distance)
-//              and T rests by rays on nothing else (furniture is part of the static map: resting
-//              on the map counts as resting on it). So a relay in a KLT on the bench is in the KLT,
-//              not on the bench.
+//   on(T, R):  not in(T, R), and T rests by rays on R (share of rays >= min_support: contact, so
+//              an object held just over a crate is not on it); for furniture, which is part of the
+//              static map, T rests on the map and the relaxed box "on" holds (R's top projection
+//              intersects T, distance < on_max_distance). So a relay in a KLT on the bench is in
+//              the KLT, not on the bench. Without a scene (boxes only): the relaxed box "on".
+//   on / in are one-way: when T and R each stand on or in the other (two tracks of one object),
+//              neither edge is kept.
 //   left_of, right_of, in_front_of, behind, above, below: among tracked objects only, with
 //              directional_mode (strict: projection contains; relaxed: halfspace intersects), in
 //              R's own frame or, with camera_relative, from the camera's point of view.

@@ -166,8 +166,10 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
       // A degenerate fit (planar inliers) is no evidence of absence when the object shows what
       // it should, but it is when those few inliers are all it shows: an object taken from a
       // table leaves a handful of table points along its former bottom edge, in one plane.
+      // A child (in / on another track) is hidden by its parent more than the rays know (a relay
+      // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
       const bool explained = o.quality.inlier_ratio >= options_.refiner.min_inlier_ratio;
-      const bool absent = should_show && (o.quality.status != RefineStatus::kDegenerate || !explained);
+      const bool absent = should_show && (o.quality.status != RefineStatus::kDegenerate || !explained) && !child;
       if (absent && t.absent_since < 0.0) t.absent_since = stamp;
       if (!absent) t.absent_since = -1.0;
       if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
@@ -248,7 +250,9 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     scene_.commit();
   }
   out.times.refine_ms = msSince(t0);
+  t0 = Clock::now();
   if (options_.compute_relations) updateRelations(out, sets);
+  out.times.relations_ms = msSince(t0);
 
   // 4. Pre-segment every measurement against the map and the tracked objects.
   t0 = Clock::now();

@@ -40,12 +40,10 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
       const bool rests_on_r = rests_on != kNoNode && rests_on == r_node;
       const bool in = r.movable && (contains(r.box, t.box, o.box.tolerance) ||
                                     (rests_on_r && intersects(r.box, t.box) && lowest(t.box) < highest(r.box)));
-      if (in) {
-        out.push_back({t.name, Relation::In, r.name});
-      } else if ((rests_on_r && r.movable) ||
-                 ((rests_on == kNoNode || rests_on_r) && holds(Relation::On, Mode::Relaxed, t.box, r.box, o.box))) {
-        out.push_back({t.name, Relation::On, r.name});
-      }
+      // With rays, "on" needs contact: something held 1 cm over a crate's rim is not on it.
+      const bool box_on = holds(Relation::On, Mode::Relaxed, t.box, r.box, o.box);
+      const bool on = scene ? rests_on_r && (r.movable || box_on) : box_on;
+      if (in || on) out.push_back({t.name, in ? Relation::In : Relation::On, r.name});
       if (!o.directional || !r.movable) continue;
       for (Relation d : kDirections) {
         const bool h = o.camera_relative && T_world_camera
@@ -55,7 +53,18 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
       }
     }
   }
-  return out;
+  // Support is one-way: two boxes each "on" or "in" the other (duplicate tracks of one object)
+  // say nothing about either.
+  auto supports = [](const Edge& e) { return e.relation == Relation::On || e.relation == Relation::In; };
+  auto mutual = [&](const Edge& e) {
+    return supports(e) && std::any_of(out.begin(), out.end(), [&](const Edge& f) {
+             return supports(f) && f.subject == e.object && f.object == e.subject;
+           });
+  };
+  std::vector<Edge> kept;
+  for (const Edge& e : out)
+    if (!mutual(e)) kept.push_back(e);
+  return kept;
 }
 
 Entity workbenchEntity(const Building& building, const std::string& name) {
