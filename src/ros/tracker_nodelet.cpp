@@ -13,6 +13,7 @@
 
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
 
 namespace sgt::ros {
@@ -251,6 +252,12 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
       tf_broadcaster_->sendTransform(tf);
     }
   }
+  // Relation edges: lines between box centres (tracks and furniture) with labels.
+  std::map<std::string, Eigen::Vector3d> centres;
+  for (const TrackedObject& o : r.objects)
+    centres[o.id] = o.T_map_object * pipeline_->catalog().get(o.class_name).box.center().cast<double>();
+  for (const relations::Entity& f : pipeline_->furniture()) centres[f.name] = f.box.T_world_box.translation();
+  for (auto& m : relationMarkers(r.relations, centres, map_frame_, stamp, marker_id)) markers.markers.push_back(m);
   objects_pub_.publish(objects);
   graph_pub_.publish(graph);
   markers_pub_.publish(markers);
