@@ -53,6 +53,7 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
   settings_.sql_dir = pnh.param<std::string>("sql_dir", "");
   settings_.factor = pnh.param("factor", settings_.factor);
   settings_.on_max_distance = pnh.param("on_max_distance", settings_.on_max_distance);
+  settings_.tolerance = pnh.param("tolerance", settings_.tolerance);
   semap::WriterOptions options;
   options.queue_size = static_cast<std::size_t>(std::max(1, pnh.param("queue_size", static_cast<int>(options.queue_size))));
   options.backoff_min_s = pnh.param("backoff_min", options.backoff_min_s);

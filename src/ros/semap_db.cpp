@@ -110,6 +110,8 @@ struct SemapDb::Impl {
 SemapDb::SemapDb(DbSettings settings) : settings_(std::move(settings)) {
   if (settings_.sql_dir.empty()) settings_.sql_dir = std::string(SGT_SOURCE_DIR) + "/sql";
   impl_ = std::make_unique<Impl>(settings_.connectionString());
+  if (settings_.statement_timeout_s > 0)
+    impl_->conn.set_variable("statement_timeout", std::to_string(static_cast<int>(settings_.statement_timeout_s * 1000)));
 }
 
 SemapDb::~SemapDb() = default;
@@ -128,6 +130,7 @@ void SemapDb::installSchema() {
 }
 
 void SemapDb::writeFrame(const Frame& frame) {
+  relation_error_.clear();
   pqxx::work w(impl_->conn);
   std::set<std::string> new_classes;
   for (const InstancePose& o : frame.objects) {
@@ -146,9 +149,18 @@ void SemapDb::writeFrame(const Frame& frame) {
   }
   if (frame.complete)
     w.exec_params("UPDATE instance SET present = false WHERE present AND last_seen < to_timestamp($1)", frame.stamp);
-  if (frame.update_relations)
-    w.exec_params("SELECT semap_update_relations(to_timestamp($1), $2, $3)", frame.stamp, settings_.factor,
-                  settings_.on_max_distance);
+  if (frame.update_relations) {
+    // In a subtransaction: when it fails (e.g. statement_timeout) the poses are still written.
+    try {
+      pqxx::subtransaction sub(w, "relations");
+      sub.exec_params("SELECT semap_update_relations(to_timestamp($1), $2, $3, $4)", frame.stamp, settings_.factor,
+                      settings_.on_max_distance, settings_.tolerance);
+      sub.commit();
+    } catch (const pqxx::sql_error& e) {
+      if (std::string(e.sqlstate()).rfind("08", 0) == 0) throw;
+      relation_error_ = e.what();
+    }
+  }
   w.commit();
   classes_written_.insert(new_classes.begin(), new_classes.end());
 }
@@ -159,8 +171,8 @@ std::vector<RelationRow> SemapDb::relations(const std::string& subject, const st
   pqxx::read_transaction w(impl_->conn);
   const pqxx::result r = w.exec_params(
       "SELECT subject, relation, object, extract(epoch FROM since)::float8 FROM "
-      "semap_relations(NULLIF($1, ''), NULLIF($2, ''), NULLIF($3, ''), $4, $5, $6)",
-      subject, relation, object, checkedMode(mode), settings_.factor, settings_.on_max_distance);
+      "semap_relations(NULLIF($1, ''), NULLIF($2, ''), NULLIF($3, ''), $4, $5, $6, $7)",
+      subject, relation, object, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
   std::vector<RelationRow> rows;
   for (const pqxx::row& row : r)
     rows.push_back({row[0].as<std::string>(), row[1].as<std::string>(), row[2].as<std::string>(),
@@ -185,8 +197,8 @@ std::vector<std::string> SemapDb::directionalRelations(const std::string& a, con
   if (a.empty() || b.empty()) throw std::invalid_argument("directional relations need both objects");
   pqxx::read_transaction w(impl_->conn);
   const pqxx::result r = w.exec_params(
-      "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5) WHERE relation NOT IN ('on', 'in')", a, b,
-      checkedMode(mode), settings_.factor, settings_.on_max_distance);
+      "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5, $6) WHERE relation NOT IN ('on', 'in')", a,
+      b, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
   std::vector<std::string> names;
   for (const pqxx::row& row : r) names.push_back(row[0].as<std::string>());
   return names;

@@ -1,6 +1,8 @@
 #include "scene_graph_tracker/ros/semap_writer.hpp"
 
 #include <ros/console.h>
+#include <ros/init.h>
+#include <ros/time.h>
 
 #include <pqxx/except>
 
@@ -10,14 +12,17 @@ namespace {
 // Errors that mean "the connection or the server", not "this frame": retry after reconnecting.
 bool connectionError(const pqxx::sql_error& e) {
   const std::string state = e.sqlstate();
-  return state.empty() || state.rfind("08", 0) == 0 || state.rfind("57", 0) == 0 || state.rfind("53", 0) == 0 ||
-         state == "40001" || state == "40P01";  // serialization failure, deadlock: retry too
+  // 08: connection exception; 57P0x: server shutting down / restarting; 53: out of resources;
+  // 40001, 40P01: serialization failure, deadlock. Not 57014 (statement timeout): that frame is rejected.
+  return state.empty() || state.rfind("08", 0) == 0 || state.rfind("57P", 0) == 0 || state.rfind("53", 0) == 0 ||
+         state == "40001" || state == "40P01";
 }
 
 }  // namespace
 
 SemapWriter::SemapWriter(DbSettings settings, WriterOptions options)
     : settings_(std::move(settings)), options_(options), backoff_s_(options.backoff_min_s) {
+  if (!::ros::isInitialized()) ::ros::Time::init();  // outside a node (tests): the throttled logs use wall time
   thread_ = std::thread([this] { run(); });
 }
 
@@ -117,6 +122,9 @@ void SemapWriter::run() {
       try {
         db_->writeFrame(item.frame);
         written = true;
+        if (!db_->relationError().empty())
+          ROS_WARN_THROTTLE(5.0, "semap: relation intervals not updated at %.3f (poses written): %s", item.frame.stamp,
+                            db_->relationError().c_str());
       } catch (const pqxx::sql_error& e) {
         if (connectionError(e) || !db_->isOpen())
           error = e.what();

@@ -21,9 +21,11 @@ struct DbSettings {
   std::string password;  // empty: none (trust / .pgpass)
   std::string dbname = "semap";
   int connect_timeout_s = 2;
+  double statement_timeout_s = 10.0;  // any one SQL statement; 0: none
   std::string sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the source tree's sql/
   double factor = 3.5;  // relation parameters, as sgt::relations::RelationOptions
   double on_max_distance = 0.02;
+  double tolerance = 0.0;  // m, containment: corners may lie this far outside
   std::string connectionString() const;
 };
 
@@ -94,12 +96,15 @@ class SemapDb {
   std::vector<std::vector<std::string>> query(const std::string& sql);
 
   const DbSettings& settings() const { return settings_; }
+  // Why the last frame's relation update failed (its poses were written); empty when it did not.
+  const std::string& relationError() const { return relation_error_; }
 
  private:
   struct Impl;
   DbSettings settings_;
   std::unique_ptr<Impl> impl_;
   std::set<std::string> classes_written_;
+  std::string relation_error_;
 };
 
 // "strict" for an empty mode; throws std::invalid_argument for anything but strict/relaxed.
