@@ -1,0 +1,78 @@
+// semap_bridge: stores the tracker's scene graph in the SEMAP database (PostgreSQL + PostGIS +
+// SFCGAL) and answers spatial queries from it.
+//
+// Subscribes: scene_graph (SceneGraph; world poses by composing each node's parent chain), or
+// tracked_objects (TrackedObjectArray, poses in the header frame) with ~source: tracked_objects.
+// Writes: object classes (box, hull), instances, pose history, relation intervals, through a
+// bounded queue in a writer thread (semap_writer.hpp): the node keeps running while the
+// database is down and writes the backlog when it is back.
+// Services (answered by SQL on the database; success false + message when it is unreachable):
+//   ~query_relations, ~objects_on, ~objects_in, ~directional_relations, ~where_was, ~relation_since
+// Parameters: config/semap.yaml.
+#pragma once
+
+#include <ros/ros.h>
+#include <scene_graph_tracker/DirectionalRelations.h>
+#include <scene_graph_tracker/ObjectsIn.h>
+#include <scene_graph_tracker/ObjectsOn.h>
+#include <scene_graph_tracker/QueryRelations.h>
+#include <scene_graph_tracker/RelationSince.h>
+#include <scene_graph_tracker/SceneGraph.h>
+#include <scene_graph_tracker/TrackedObjectArray.h>
+#include <scene_graph_tracker/WhereWas.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "scene_graph_tracker/ros/semap_writer.hpp"
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+
+namespace sgt::ros {
+
+// The class's box and up to `max_points` of its mesh vertices (spread over the vertex list).
+semap::ClassShape classShape(const ObjectClass& c, std::size_t max_points = 200);
+
+// Node id -> pose in the scene graph's root frame: T_parent_node composed along parents; a parent
+// that is not a node is the root. Throws ConversionError on a parent cycle.
+std::map<std::string, Eigen::Isometry3d> worldPoses(const scene_graph_tracker::SceneGraph& graph);
+
+class SemapBridge {
+ public:
+  SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh);
+  semap::WriterStats writerStats() const { return writer_->stats(); }
+
+ private:
+  void onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& msg);
+  void onTrackedObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& msg);
+  void push(semap::Frame frame);
+  std::shared_ptr<const semap::ClassShape> shape(const std::string& class_name);
+
+  // Runs f on the query connection (connecting when needed); fills success and message.
+  template <class Response, class F>
+  bool answer(Response& res, F f);
+  bool onQueryRelations(scene_graph_tracker::QueryRelations::Request& req,
+                        scene_graph_tracker::QueryRelations::Response& res);
+  bool onObjectsOn(scene_graph_tracker::ObjectsOn::Request& req, scene_graph_tracker::ObjectsOn::Response& res);
+  bool onObjectsIn(scene_graph_tracker::ObjectsIn::Request& req, scene_graph_tracker::ObjectsIn::Response& res);
+  bool onDirectional(scene_graph_tracker::DirectionalRelations::Request& req,
+                     scene_graph_tracker::DirectionalRelations::Response& res);
+  bool onWhereWas(scene_graph_tracker::WhereWas::Request& req, scene_graph_tracker::WhereWas::Response& res);
+  bool onRelationSince(scene_graph_tracker::RelationSince::Request& req,
+                       scene_graph_tracker::RelationSince::Response& res);
+
+  semap::DbSettings settings_;
+  ObjectCatalog catalog_;
+  std::map<std::string, std::shared_ptr<const semap::ClassShape>> shapes_;
+  std::unique_ptr<semap::SemapWriter> writer_;
+  double write_period_ = 0.0, relation_period_ = 0.5;
+  std::optional<double> last_write_, last_relations_;
+
+  std::mutex query_mutex_;
+  std::unique_ptr<semap::SemapDb> query_db_;
+
+  ::ros::Subscriber sub_;
+  std::vector<::ros::ServiceServer> services_;
+};
+
+}  // namespace sgt::ros

@@ -1,0 +1,72 @@
+// Writes frames into the SEMAP database from its own thread, through a bounded queue, so the
+// caller never waits for the database. When the server is down or restarts, frames stay queued
+// (warning, throttled), the writer reconnects with exponential backoff and writes the backlog in
+// order. A full queue drops its oldest frame, with a warning that says so. A frame the server
+// rejects for its content (not for the connection) is logged and skipped.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "scene_graph_tracker/ros/semap_db.hpp"
+
+namespace sgt::semap {
+
+struct WriterOptions {
+  std::size_t queue_size = 2000;  // frames
+  double backoff_min_s = 0.1;     // first reconnection delay, doubled up to backoff_max_s
+  double backoff_max_s = 2.0;
+  double flush_timeout_s = 3.0;   // on destruction: how long to keep writing the backlog
+};
+
+struct WriterStats {
+  std::size_t pushed = 0, written = 0, dropped = 0, rejected = 0;
+  std::size_t pending = 0, max_pending = 0;  // queued frames now / at most
+  std::size_t connects = 0, failed_attempts = 0;
+  bool connected = false;
+  double last_outage_s = 0.0;  // from the first failed write to the reconnection, last outage
+};
+
+class SemapWriter {
+ public:
+  SemapWriter(DbSettings settings, WriterOptions options = {});
+  ~SemapWriter();  // writes what it can within flush_timeout_s, then stops
+  SemapWriter(const SemapWriter&) = delete;
+  SemapWriter& operator=(const SemapWriter&) = delete;
+
+  void push(Frame frame);  // never blocks on the database
+  WriterStats stats() const;
+  // Until every pushed frame is written, dropped or rejected; false on timeout.
+  bool waitIdle(double timeout_s) const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void run();
+  bool connect();
+  void sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_point deadline);
+
+  const DbSettings settings_;
+  const WriterOptions options_;
+  struct Item {
+    std::uint64_t seq;
+    Frame frame;
+  };
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  std::deque<Item> queue_;
+  std::uint64_t next_seq_ = 0;
+  bool stop_ = false;
+  bool busy_ = false;  // the writer holds a frame it has not finished
+  WriterStats stats_;
+  std::unique_ptr<SemapDb> db_;  // writer thread only
+  double backoff_s_;
+  std::optional<Clock::time_point> outage_since_;
+  std::thread thread_;
+};
+
+}  // namespace sgt::semap

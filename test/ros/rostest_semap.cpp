@@ -1,0 +1,226 @@
+// rostest: the semap_bridge node on live topics. The test starts its own PostgreSQL server and the
+// node (pointed at that server's port), publishes scene graphs (a relay on a KLT, a screwdriver
+// beside it), and calls every service; the answers must equal the C++ relation engine's on the
+// same boxes. Then the server is stopped: queries fail with a message, the node keeps running and
+// writes what arrived meanwhile once the server is back.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <scene_graph_tracker/DirectionalRelations.h>
+#include <scene_graph_tracker/ObjectsIn.h>
+#include <scene_graph_tracker/ObjectsOn.h>
+#include <scene_graph_tracker/QueryRelations.h>
+#include <scene_graph_tracker/RelationSince.h>
+#include <scene_graph_tracker/SceneGraph.h>
+#include <scene_graph_tracker/WhereWas.h>
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <functional>
+#include <set>
+#include <tuple>
+
+#include "pg_server.hpp"
+#include "scene_graph_tracker/relations/spatial_relations.hpp"
+#include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+
+namespace sgt {
+namespace {
+
+using Triple = std::tuple<std::string, std::string, std::string>;
+
+Eigen::Isometry3d at(const Eigen::Vector3d& t, double yaw = 0.0) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = t, T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+
+class SemapBridgeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    SGT_REQUIRE_POSTGRES();
+    pg_ = std::make_unique<test::PgServer>();
+    catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+    const std::string port = "_db_port:=" + std::to_string(pg_->port());
+    node_ = fork();
+    if (node_ == 0) {
+      execl(SGT_SEMAP_BRIDGE_NODE, SGT_SEMAP_BRIDGE_NODE, "__name:=semap_bridge", port.c_str(), "_write_period:=0.0",
+            "_relation_period:=0.0", "_backoff_max:=0.3", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    ASSERT_GT(node_, 0);
+    graph_pub_ = nh_.advertise<scene_graph_tracker::SceneGraph>("/scene_graph", 10);
+    ASSERT_TRUE(::ros::service::waitForService("/semap_bridge/relation_since", ::ros::Duration(60.0)))
+        << "the semap_bridge node did not come up";
+    for (int i = 0; i < 100 && graph_pub_.getNumSubscribers() == 0; ++i) ::ros::Duration(0.05).sleep();
+  }
+  void TearDown() override {
+    if (node_ > 0) {
+      kill(node_, SIGINT);
+      waitpid(node_, nullptr, 0);
+    }
+  }
+
+  // The relay's pose on the KLT (box bottom 5 mm above the KLT's top), or away on the floor.
+  Eigen::Isometry3d relayOnKlt(bool on) const {
+    const auto& klt = catalog_.get("klt").box;
+    const auto& relay = catalog_.get("relay").box;
+    if (!on) return at(Eigen::Vector3d(1.0, 0.0, -relay.min().z()));
+    return at(Eigen::Vector3d(-relay.center().x() + 0.03, -relay.center().y(),
+                              klt.max().z() + 0.005 - relay.min().z()), 0.3);
+  }
+
+  // klt_1 at the origin, relay_1 as the KLT's child, screwdriver_1 beside the KLT (+y: its left).
+  void publish(double stamp, bool relay_on) {
+    scene_graph_tracker::SceneGraph g;
+    g.header.stamp = ::ros::Time(stamp), g.header.frame_id = "map";
+    auto node = [&](const std::string& id, const std::string& cls, const std::string& parent, const Eigen::Isometry3d& T) {
+      scene_graph_tracker::SceneGraphNode n;
+      n.id = id, n.class_name = cls, n.parent = parent, n.T_parent_node = ros::toTransform(T);
+      g.nodes.push_back(n);
+    };
+    node("klt_1", "klt", "map", T_klt_);
+    node("relay_1", "relay", "klt_1", relayOnKlt(relay_on));  // relative to the KLT
+    node("screwdriver_1", "screwdriver", "map", T_screwdriver_);
+    graph_pub_.publish(g);
+  }
+
+  // Until where_was(id, stamp) finds a pose stored at `stamp`; `republish` (if given) every 0.5 s
+  // meanwhile (a message sent before the subscription is connected is lost).
+  bool waitStored(const std::string& id, double stamp, const std::function<void()>& republish = {},
+                  double timeout = 30.0) {
+    scene_graph_tracker::WhereWas w;
+    w.request.id = id, w.request.stamp = ::ros::Time(stamp);
+    int round = 0;
+    for (const auto end = ::ros::WallTime::now() + ::ros::WallDuration(timeout); ::ros::WallTime::now() < end; ++round) {
+      if (::ros::service::call("/semap_bridge/where_was", w) && w.response.found &&
+          std::abs(w.response.pose_stamp.toSec() - stamp) < 1e-3)
+        return true;
+      if (republish && round % 10 == 9) republish();
+      ::ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  }
+  bool publishStored(double stamp, bool relay_on) {
+    publish(stamp, relay_on);
+    return waitStored("relay_1", stamp, [=] { publish(stamp, relay_on); });
+  }
+
+  // The engine's relations among the three boxes (world poses as published).
+  std::set<Triple> coreRelations(relations::Mode mode, bool relay_on) const {
+    const std::vector<std::pair<std::string, relations::OrientedBox>> boxes = {
+        {"klt_1", relations::orientedBox(catalog_.get("klt").box.cast<double>(), T_klt_)},
+        {"relay_1", relations::orientedBox(catalog_.get("relay").box.cast<double>(), T_klt_ * relayOnKlt(relay_on))},
+        {"screwdriver_1", relations::orientedBox(catalog_.get("screwdriver").box.cast<double>(), T_screwdriver_)}};
+    std::set<Triple> out;
+    for (const auto& [t, tb] : boxes)
+      for (const auto& [r, rb] : boxes)
+        for (int k = 0; k < relations::kRelationCount && t != r; ++k)
+          if (relations::holds(static_cast<relations::Relation>(k), mode, tb, rb))
+            out.insert({t, relations::relationName(static_cast<relations::Relation>(k)), r});
+    return out;
+  }
+
+  std::set<Triple> queried(const std::string& mode) {
+    scene_graph_tracker::QueryRelations q;
+    q.request.mode = mode;
+    EXPECT_TRUE(::ros::service::call("/semap_bridge/query_relations", q));
+    EXPECT_TRUE(q.response.success) << q.response.message;
+    std::set<Triple> out;
+    for (const auto& r : q.response.relations) out.insert({r.subject, r.relation, r.object});
+    return out;
+  }
+
+  ::ros::NodeHandle nh_;
+  ::ros::Publisher graph_pub_;
+  std::unique_ptr<test::PgServer> pg_;
+  ObjectCatalog catalog_;
+  pid_t node_ = -1;
+  const Eigen::Isometry3d T_klt_ = at(Eigen::Vector3d(0.5, 0.2, 0.8), 0.4);
+  const Eigen::Isometry3d T_screwdriver_ = T_klt_ * at(Eigen::Vector3d(0.0, 0.3, 0.0));
+};
+
+TEST_F(SemapBridgeTest, ServicesAnswerFromTheDatabase) {
+  ASSERT_TRUE(publishStored(100.0, true)) << "the scene graph did not reach the database";
+
+  const auto strict = queried("strict");
+  EXPECT_EQ(strict, coreRelations(relations::Mode::Strict, true));
+  EXPECT_TRUE(strict.count({"relay_1", "on", "klt_1"}));
+  EXPECT_TRUE(strict.count({"screwdriver_1", "left_of", "klt_1"}));
+  EXPECT_EQ(queried("relaxed"), coreRelations(relations::Mode::Relaxed, true));
+
+  scene_graph_tracker::ObjectsOn on;
+  on.request.reference = "klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on));
+  EXPECT_EQ(on.response.ids, std::vector<std::string>{"relay_1"});
+  scene_graph_tracker::ObjectsIn in;
+  in.request.reference = "klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_in", in));
+  EXPECT_TRUE(in.response.success);
+  EXPECT_TRUE(in.response.ids.empty());
+  scene_graph_tracker::DirectionalRelations dir;
+  dir.request.a = "screwdriver_1", dir.request.b = "klt_1", dir.request.mode = "strict";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/directional_relations", dir));
+  EXPECT_EQ(dir.response.relations, std::vector<std::string>{"left_of"});
+
+  ASSERT_TRUE(publishStored(101.0, false));  // the relay taken off the KLT
+  scene_graph_tracker::RelationSince since;
+  since.request.subject = "relay_1", since.request.relation = "on", since.request.object = "klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/relation_since", since));
+  EXPECT_TRUE(since.response.success);
+  EXPECT_FALSE(since.response.holds);
+  ASSERT_TRUE(publishStored(102.0, true));  // and put back
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/relation_since", since));
+  EXPECT_TRUE(since.response.holds);
+  EXPECT_TRUE(since.response.since_known);
+  EXPECT_NEAR(since.response.since.toSec(), 102.0, 1e-3);
+
+  scene_graph_tracker::WhereWas w;
+  w.request.id = "relay_1", w.request.stamp = ::ros::Time(101.5);
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/where_was", w));
+  ASSERT_TRUE(w.response.found);
+  EXPECT_NEAR(w.response.pose_stamp.toSec(), 101.0, 1e-3);
+  EXPECT_EQ(w.response.parent, "klt_1");
+  const Eigen::Isometry3d T_world_relay = T_klt_ * relayOnKlt(false);  // stored in the root frame
+  EXPECT_LT((ros::toEigen(w.response.pose).translation() - T_world_relay.translation()).norm(), 1e-6);
+  w.request.stamp = ::ros::Time(99.0);
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/where_was", w));
+  EXPECT_TRUE(w.response.success);
+  EXPECT_FALSE(w.response.found);
+
+  scene_graph_tracker::QueryRelations bad;
+  bad.request.mode = "fuzzy";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/query_relations", bad));
+  EXPECT_FALSE(bad.response.success);
+  EXPECT_NE(bad.response.message.find("strict"), std::string::npos) << bad.response.message;
+}
+
+TEST_F(SemapBridgeTest, KeepsRunningWhileTheDatabaseIsDown) {
+  ASSERT_TRUE(publishStored(200.0, true));
+  pg_->stop();
+  scene_graph_tracker::ObjectsOn on;
+  on.request.reference = "klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on)) << "the node should answer, not die";
+  EXPECT_FALSE(on.response.success);
+  EXPECT_NE(on.response.message.find("semap database"), std::string::npos) << on.response.message;
+  for (int i = 1; i <= 5; ++i) {  // while it is down
+    publish(200.0 + i, i % 2 == 0);
+    ::ros::WallDuration(0.1).sleep();
+  }
+  pg_->start();
+  for (int i = 1; i <= 5; ++i) EXPECT_TRUE(waitStored("relay_1", 200.0 + i)) << "frame " << i << " lost";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on));
+  EXPECT_TRUE(on.response.success) << on.response.message;
+  EXPECT_TRUE(on.response.ids.empty());  // the last frame (205) has the relay on the floor
+}
+
+}  // namespace
+}  // namespace sgt
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "rostest_semap");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
