@@ -33,7 +33,7 @@ TOOLS := $(BUILD)/devel/lib/scene_graph_tracker
 demo: build
 	@mkdir -p $(DEMO_DIR)
 	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag $(DEMO_SIMULATE_ARGS)
-	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) $(DEMO_EVALUATE_ARGS)
+	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) --scenario $(DEMO_SCENARIO) $(DEMO_EVALUATE_ARGS)
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build

@@ -8,6 +8,9 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <map>
+#include <optional>
+
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
@@ -54,13 +57,23 @@ void TrackerNodelet::onInit() {
   o.remove_after_s = pnh.param("remove_after", o.remove_after_s);
   o.min_hypothesis_score = pnh.param("min_hypothesis_score", o.min_hypothesis_score);
   o.run_presegmentation = pnh.param("presegment", o.run_presegmentation);
+  o.compute_relations = pnh.param("relations/enabled", o.compute_relations);
+  o.reparent = pnh.param("relations/reparent", o.reparent);
+  o.relation_options.directional = pnh.param("relations/directional", o.relation_options.directional);
+  o.relation_options.camera_relative = pnh.param("relations/camera_relative", o.relation_options.camera_relative);
+  if (pnh.param("relations/relaxed", false)) o.relation_options.directional_mode = relations::Mode::Relaxed;
+  o.relation_hysteresis.appear_frames = pnh.param("relations/appear_frames", o.relation_hysteresis.appear_frames);
+  o.relation_hysteresis.disappear_frames = pnh.param("relations/disappear_frames", o.relation_hysteresis.disappear_frames);
 
   const std::string catalog_path = pnh.param<std::string>("catalog", std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
   const std::string mesh_dir = pnh.param<std::string>("mesh_dir", "");
   const std::string map_path = pnh.param<std::string>("static_map", "building");
   auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(catalog_path, mesh_dir));
-  auto map = std::make_shared<TriangleMesh>(map_path == "building" ? makeBuilding().mesh : loadStaticMap(map_path));
+  std::optional<Building> building;
+  if (map_path == "building") building = makeBuilding();
+  auto map = std::make_shared<TriangleMesh>(building ? building->mesh : loadStaticMap(map_path));
   pipeline_ = std::make_unique<FramePipeline>(catalog, map, o);
+  if (building) pipeline_->setFurniture({relations::workbenchEntity(*building)});  // its only described furniture
   NODELET_INFO("tracker: %zu classes from %s, static map %s (%zu triangles)", catalog->size(), catalog_path.c_str(),
                map_path.c_str(), map->triangleCount());
 
@@ -193,15 +206,27 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
   clear.action = visualization_msgs::Marker::DELETEALL;
   markers.markers.push_back(clear);
   int marker_id = 0;
+  std::map<std::string, const TrackedObject*> by_id;
+  for (const TrackedObject& o : r.objects) by_id[o.id] = &o;
+  for (const relations::Edge& e : r.relations) {
+    scene_graph_tracker::SceneGraphEdge edge;
+    edge.subject = e.subject, edge.relation = relations::relationName(e.relation), edge.object = e.object;
+    graph.edges.push_back(edge);
+  }
   for (const TrackedObject& o : r.objects) {
+    // In the graph a track in / on another is that track's child (pose relative to it).
+    const auto parent = by_id.find(o.parent);
+    const bool child = parent != by_id.end();
     scene_graph_tracker::TrackedObject t;
-    t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state), t.parent = map_frame_;
+    t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state), t.parent = child ? o.parent : map_frame_;
     t.pose.pose = toPose(o.T_map_object);
     for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);
     t.inlier_ratio = static_cast<float>(o.quality.inlier_ratio), t.inliers = o.quality.inliers;
     objects.objects.push_back(t);
     scene_graph_tracker::SceneGraphNode n;
-    n.id = o.id, n.class_name = o.class_name, n.parent = map_frame_, n.T_parent_node = toTransform(o.T_map_object);
+    n.id = o.id, n.class_name = o.class_name, n.parent = t.parent;
+    n.T_parent_node = toTransform(child ? Eigen::Isometry3d(parent->second->T_map_object.inverse() * o.T_map_object)
+                                        : o.T_map_object);
     graph.nodes.push_back(n);
 
     const ObjectClass& c = pipeline_->catalog().get(o.class_name);

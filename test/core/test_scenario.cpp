@@ -43,6 +43,13 @@ distractors:
     keyframes:
       - {t: 0, xyz: [5, 5, 0.875]}
   - {id: box_1, shape: box, size: [0.1, 0.2, 0.3], color: [0.5, 0.4, 0.3], keyframes: [{t: 0, xyz: [4, 4, 0.15]}]}
+relations:
+  - {subject: klt_1, relation: on, object: workbench, to: 1.5}
+  - subject: klt_1
+    relation: left_of
+    object: relay_1
+    from: 0.5
+    to: 2.0
 robot:
   frame: workbench
   keyframes:
@@ -120,6 +127,23 @@ TEST(Scenario, ValidFileParsesToTheExpectedValues) {
   ASSERT_TRUE(s.objects[1].inside.has_value());
   EXPECT_EQ(s.objects[1].inside->container, "klt_1");
   EXPECT_DOUBLE_EQ(s.objects[1].inside->from, 2.0);
+  // The `relations:` list, then the `inside` annotation as a relation.
+  ASSERT_EQ(s.relations.size(), 3u);
+  EXPECT_EQ(s.relations[0].subject, "klt_1");
+  EXPECT_EQ(s.relations[0].relation, relations::Relation::On);
+  EXPECT_EQ(s.relations[0].object, "workbench");
+  EXPECT_DOUBLE_EQ(s.relations[0].from, 0.0);
+  EXPECT_DOUBLE_EQ(s.relations[0].to, 1.5);
+  EXPECT_TRUE(s.relations[0].activeAt(1.0));
+  EXPECT_FALSE(s.relations[0].activeAt(1.5));
+  EXPECT_EQ(s.relations[1].relation, relations::Relation::LeftOf);
+  EXPECT_EQ(s.relations[1].object, "relay_1");
+  EXPECT_DOUBLE_EQ(s.relations[1].from, 0.5);
+  EXPECT_EQ(s.relations[2].subject, "relay_1");
+  EXPECT_EQ(s.relations[2].relation, relations::Relation::In);
+  EXPECT_EQ(s.relations[2].object, "klt_1");
+  EXPECT_DOUBLE_EQ(s.relations[2].from, 2.0);
+  EXPECT_TRUE(std::isinf(s.relations[2].to));
   ASSERT_TRUE(s.objects[1].color.has_value());
   EXPECT_TRUE(s.objects[1].color->isApprox(Eigen::Vector3f(0.1f, 0.9f, 0.2f)));
   EXPECT_EQ(s.objects[1].trajectory.keys().size(), 2u);
@@ -260,7 +284,15 @@ TEST(Scenario, BrokenFilesNameFileLineAndField) {
        "objects[0].frame: unknown frame 'bench' (expected map or workbench)"},
       {"duplicate_id.yaml", "- id: relay_1", "- id: klt_1", "    class: relay", "objects[1].id: duplicate id 'klt_1'",
        -1},
-      {"reserved.yaml", "seed: 11", "seed: 11\nrelations: []", "relations:", "relations: reserved for relation"},
+      {"bad_relation.yaml", "relation: on,", "relation: beside,", "relation: beside",
+       "relations[0].relation: unknown relation 'beside' (expected on, in, left_of, right_of, in_front_of, behind, above or below)"},
+      {"bad_relation_object.yaml", "    object: relay_1", "    object: relay_9", "object: relay_9",
+       "relations[1].object: 'relay_9' is not the id of an object or workbench"},
+      {"bad_relation_subject.yaml", "{subject: klt_1,", "{subject: person,", "subject: person",
+       "relations[0].subject: 'person' is not the id of an object"},
+      {"bad_relation_key.yaml", "    to: 2.0", "    until: 2.0", "until: 2.0",
+       "relations[1].until: unknown key (expected one of: subject, relation, object, from, to)"},
+      {"bad_relation_to.yaml", "    to: 2.0", "    to: 0.2", "to: 0.2", "relations[1].to: expected a time after from (0.5)"},
       {"syntax.yaml", "    radius: 0.25", "    radius: [0.25", "radius: [0.25", "YAML syntax error"},
   };
   for (const Broken& c : cases) {

@@ -1,6 +1,6 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.*, localization.*,
-// presegmentation.*, timing.*), report.md (tables) and timeseries.csv (one row per frame and
+// presegmentation.*, relations.* (when relations were scored), timing.*), report.md (tables) and timeseries.csv (one row per frame and
 // object, read by scripts/plot_report.py).
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
+#include "scene_graph_tracker/evaluation/relation_score.hpp"
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 
 namespace sgt {
@@ -28,6 +29,8 @@ class EvaluationReport {
                  const std::string& track_id, const std::optional<PoseErrors>& errors);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
+  // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the scenario.
+  void addRelations(const RelationCounts& counts, std::size_t declared);
 
   std::size_t frames() const { return frames_.size(); }
   std::string json() const;
@@ -48,6 +51,8 @@ class EvaluationReport {
   std::vector<FrameRow> frames_;
   std::vector<ObjectRow> objects_;
   UnknownLabelCounts labels_;
+  RelationCounts relations_;
+  std::size_t relation_frames_ = 0, declared_relations_ = 0;
   std::map<std::string, std::string> last_track_;  // truth id -> last matched track id
   std::map<std::string, int> switches_;
 };

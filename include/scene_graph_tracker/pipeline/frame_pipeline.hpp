@@ -13,6 +13,15 @@
 // failed). A track is removed only on evidence of absence: it should show points (its rays
 // are not blocked by anything closer, known or unknown) yet gets no correspondences for
 // remove_after_s; an occluded or out-of-view track just coasts.
+//
+// Relations: after refinement, the relations among confirmed tracks (confirmed or lost) and the
+// static furniture (setFurniture) are computed (relations/scene_relations.hpp), held back by
+// hysteresis (an edge shows after holding appear_frames frames, goes after failing
+// disappear_frames) and returned as edges. With `reparent`, a track that is in or on another
+// track becomes its child in the scene graph (world pose unchanged), and back under the world when
+// that ends. A child is predicted with its parent: it keeps its pose relative to the parent, so
+// a relay inside a carried KLT moves with it even while the KLT's walls hide it; a child gathers
+// no evidence of absence (it goes when the relation ends and it is then seen missing).
 #pragma once
 
 #include <map>
@@ -22,6 +31,8 @@
 
 #include "scene_graph_tracker/registration/localizer.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
+#include "scene_graph_tracker/relations/relation_hysteresis.hpp"
+#include "scene_graph_tracker/relations/scene_relations.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/scene/scene_graph.hpp"
@@ -69,6 +80,10 @@ struct PipelineOptions {
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   bool run_presegmentation = true;
+  bool compute_relations = true;
+  relations::SceneRelationOptions relation_options;
+  relations::HysteresisOptions relation_hysteresis;
+  bool reparent = true;  // a track in / on another track becomes its child in the scene graph
   PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
 };
 
@@ -79,6 +94,7 @@ struct TrackedObject {
   NodeId node = kNoNode;
   std::string id;  // class + number, e.g. "klt_1"; never reused
   std::string class_name;
+  std::string parent;  // id of the track it is in or on (its scene-graph parent); empty: the world
   Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();  // [t, R] of the filter
   TrackState state = TrackState::kTentative;
@@ -89,6 +105,7 @@ struct TrackedObject {
 
 struct StageTimes {
   double localize_ms = 0, associate_ms = 0, refine_ms = 0, presegment_ms = 0, total_ms = 0;
+  double relations_ms = 0;
 };
 
 struct PipelineResult {
@@ -102,6 +119,7 @@ struct PipelineResult {
   std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
   std::vector<RangeMeasurements> measurements;   // in the map frame, as used
   StageTimes times;
+  std::vector<relations::Edge> relations;  // stable relation edges (after hysteresis)
 };
 
 class FramePipeline {
@@ -123,6 +141,9 @@ class FramePipeline {
   bool removeTrack(const std::string& id);
   void reset();  // forget every track and the map -> odom correction
   NodeId mapNode() const { return map_node_; }
+  // Static reference boxes for relations (e.g. relations::workbenchEntity(building)).
+  void setFurniture(std::vector<relations::Entity> furniture) { furniture_ = std::move(furniture); }
+  const std::vector<relations::Entity>& furniture() const { return furniture_; }
 
  private:
   struct Track {
@@ -134,6 +155,10 @@ class FramePipeline {
   void setTracksEnabled(bool enabled);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
   void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
+  std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
+  std::string trackIdOf(NodeId node) const;       // "" when no track has that node
+  void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);
+  void reparent(const std::vector<relations::Edge>& edges);
 
   std::shared_ptr<const ObjectCatalog> catalog_;
   PipelineOptions options_;
@@ -145,6 +170,8 @@ class FramePipeline {
   double last_stamp_ = -1.0;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   NodeId map_node_ = kNoNode;
+  std::vector<relations::Entity> furniture_;
+  relations::RelationHysteresis hysteresis_;
 };
 
 }  // namespace sgt

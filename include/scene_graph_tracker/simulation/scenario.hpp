@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/geometry/triangle_mesh.hpp"
+#include "scene_graph_tracker/relations/spatial_relations.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
 
@@ -52,7 +54,8 @@ class PoseTrajectory {
 // Roll, pitch, yaw about fixed x, y, z (URDF convention: R = Rz(yaw) Ry(pitch) Rx(roll)).
 Eigen::Quaterniond fromRpy(const Eigen::Vector3d& rpy);
 
-// "object `id` is inside `container` from time `from` on": kept for relation ground truth.
+// "object `id` is inside `container` from time `from` on": shorthand for a relation
+// {subject: id, relation: in, object: container, from: from} (it is added to Scenario::relations).
 struct InsideAnnotation {
   std::string container;  // id of another object
   double from = 0.0;
@@ -77,6 +80,19 @@ struct DistractorSpec {
   float height = 0.1f;                                      // cylinder (along its z)
   PoseTrajectory trajectory;                                // T_map_distractor
   Eigen::Vector3f color = Eigen::Vector3f(0.55f, 0.55f, 0.55f);
+};
+
+// The name relations use for the workbench top (static furniture of the map).
+inline constexpr const char* kWorkbenchName = "workbench";
+
+// Relation ground truth: `subject` stands in `relation` to `object` for t in [from, to).
+struct RelationSpec {
+  std::string subject;  // an object id
+  relations::Relation relation = relations::Relation::On;
+  std::string object;   // another object id, or kWorkbenchName when the scenario has a workbench
+  double from = 0.0;
+  double to = std::numeric_limits<double>::infinity();
+  bool activeAt(double t) const { return t >= from && t < to; }
 };
 
 struct WorldSpec {
@@ -133,6 +149,7 @@ struct Scenario {
 
   std::vector<ObjectSpec> objects;
   std::vector<DistractorSpec> distractors;
+  std::vector<RelationSpec> relations;  // the `relations:` list, then the objects' `inside` annotations
   PoseTrajectory robot;  // T_map_base (planar: z = 0, yaw only)
   CameraSpec camera;
   LidarSpec lidar;

@@ -82,17 +82,24 @@ void EvaluationReport::addPresegmentation(const UnknownLabelCounts& c) {
   labels_.lidar_valid += c.lidar_valid, labels_.lidar_unknown += c.lidar_unknown;
 }
 
+void EvaluationReport::addRelations(const RelationCounts& c, std::size_t declared) {
+  relations_ += c;
+  ++relation_frames_;
+  declared_relations_ = declared;
+}
+
 std::string EvaluationReport::json() const {
   ObjectStats all;
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
   for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
-  std::vector<double> lt, lr, total, loc, refine, preseg;
+  std::vector<double> lt, lr, total, loc, refine, preseg, relations;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
     total.push_back(f.times.total_ms);
     if (f.times.localize_ms > 0.05) loc.push_back(f.times.localize_ms);  // frames that localized (with a scan)
     refine.push_back(f.times.refine_ms), preseg.push_back(f.times.presegment_ms);
+    relations.push_back(f.times.relations_ms);
   }
   const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
   std::ostringstream o;
@@ -117,11 +124,17 @@ std::string EvaluationReport::json() const {
     << ",\n    \"precision\": " << num(ratio(labels_.tp, labels_.tp + labels_.fp))
     << ",\n    \"recall\": " << num(ratio(labels_.tp, labels_.tp + labels_.fn))
     << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown
-    << "\n  },\n"
-    << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5)) << ",\n    \"frame_ms_p95\": "
+    << "\n  },\n";
+  if (relation_frames_ > 0)
+    o << "  \"relations\": {\n    \"precision\": " << num(ratio(relations_.tp, relations_.tp + relations_.fp))
+      << ",\n    \"recall\": " << num(ratio(relations_.tp, relations_.tp + relations_.fn))
+      << ",\n    \"true_positives\": " << relations_.tp << ",\n    \"false_positives\": " << relations_.fp
+      << ",\n    \"false_negatives\": " << relations_.fn << ",\n    \"frames\": " << relation_frames_
+      << ",\n    \"declared\": " << declared_relations_ << "\n  },\n";
+  o << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5)) << ",\n    \"frame_ms_p95\": "
     << num(quantile(total, 0.95)) << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
     << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5)) << ",\n    \"presegment_ms_median\": "
-    << num(quantile(preseg, 0.5)) << "\n  }\n}\n";
+    << num(quantile(preseg, 0.5)) << ",\n    \"relations_ms_median\": " << num(quantile(relations, 0.5)) << "\n  }\n}\n";
   return o.str();
 }
 
@@ -151,6 +164,12 @@ std::string EvaluationReport::markdown() const {
     << (labels_.tp + labels_.fp ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fp) : 0.0) << " | "
     << (labels_.tp + labels_.fn ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fn) : 0.0) << " | "
     << std::setprecision(1) << quantile(total, 0.5) << " | " << quantile(total, 0.95) << " |\n";
+  if (relation_frames_ > 0) {
+    const auto share = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : 0.0; };
+    o << "\n| relations precision | recall | tp | fp | fn |\n|---|---|---|---|---|\n| " << std::setprecision(3)
+      << share(relations_.tp, relations_.tp + relations_.fp) << " | " << share(relations_.tp, relations_.tp + relations_.fn)
+      << " | " << relations_.tp << " | " << relations_.fp << " | " << relations_.fn << " |\n";
+  }
   return o.str();
 }
 

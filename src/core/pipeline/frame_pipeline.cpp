@@ -60,6 +60,7 @@ std::string FramePipeline::addTrack(const std::string& class_name, const Eigen::
 bool FramePipeline::removeTrack(const std::string& id) {
   for (std::size_t k = 0; k < tracks_.size(); ++k)
     if (tracks_[k].out.id == id) {
+      hysteresis_.forget(id);
       scene_.removeInstance(tracks_[k].out.node);
       scene_.commit();
       graph_.remove(tracks_[k].out.node);
@@ -73,6 +74,7 @@ void FramePipeline::reset() {
   while (!tracks_.empty()) removeTrack(tracks_.back().out.id);
   T_map_odom_ = Eigen::Isometry3d::Identity();
   last_stamp_ = -1.0;
+  hysteresis_.clear();
 }
 
 void FramePipeline::setTracksEnabled(bool enabled) {
@@ -86,9 +88,28 @@ void FramePipeline::predict(double stamp) {
   for (Track& t : tracks_) {
     if (dt > 0.0 && t.out.quality.status != RefineStatus::kOk) t.filter.damp(dt);  // coasting
     if (dt > 0.0) t.filter.predict(dt);
-    t.out.T_map_object = t.filter.pose();
+  }
+  // A track under the world follows its filter; a child keeps its pose relative to its parent
+  // (moved just before it), so what is in or on a carried object is carried along.
+  for (std::size_t k : parentsFirst()) {
+    Track& t = tracks_[k];
+    if (graph_.node(t.out.node).parent == kWorldNode) graph_.setWorldTransform(t.out.node, t.filter.pose());
+    t.out.T_map_object = graph_.worldTransform(t.out.node);
     scene_.setInstancePose(t.out.node, t.out.T_map_object);
   }
+}
+
+std::vector<std::size_t> FramePipeline::parentsFirst() const {
+  std::vector<std::pair<int, std::size_t>> by_depth;
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    int depth = 0;
+    for (NodeId n = tracks_[k].out.node; graph_.node(n).parent != kWorldNode; n = graph_.node(n).parent) ++depth;
+    by_depth.emplace_back(depth, k);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  std::vector<std::size_t> order;
+  for (const auto& [depth, k] : by_depth) order.push_back(k);
+  return order;
 }
 
 void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
@@ -124,7 +145,8 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
 
 void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped) {
   const auto C = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
-  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+  const auto C_follow = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  for (std::size_t k : parentsFirst()) {  // a coasting child follows its parent's new pose
     Track& t = tracks_[k];
     TrackedObject& o = t.out;
     o.quality = r.objects[k].quality;
@@ -137,9 +159,13 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
     } else {
       // Coast on the prediction. Absence evidence: the object should show points (rays reach
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
-      o.T_map_object = t.filter.pose();
+      const bool child = graph_.node(o.node).parent != kWorldNode;
+      if (child) t.filter.update(graph_.worldTransform(o.node), C_follow, &catalog_->get(o.class_name).symmetry);
+      o.T_map_object = child ? graph_.worldTransform(o.node) : t.filter.pose();
       const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
-      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate;
+      // A child (in / on another track) is hidden by its parent more than the rays know (a relay
+      // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
+      const bool absent = should_show && o.quality.status != RefineStatus::kDegenerate && !child;
       if (absent && t.absent_since < 0.0) t.absent_since = stamp;
       if (!absent) t.absent_since = -1.0;
       if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
@@ -158,6 +184,7 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
                        stamp - t.out.last_hypothesis > options_.tentative_timeout_s;
     if (!stale && (t.absent_since < 0.0 || stamp - t.absent_since < limit)) continue;
     dropped.push_back(t.out.id);
+    hysteresis_.forget(t.out.id);
     scene_.removeInstance(t.out.node);
     graph_.remove(t.out.node);
     tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(k));
@@ -219,6 +246,9 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     scene_.commit();
   }
   out.times.refine_ms = msSince(t0);
+  t0 = Clock::now();
+  if (options_.compute_relations) updateRelations(out, sets);
+  out.times.relations_ms = msSince(t0);
 
   // 4. Pre-segment every measurement against the map and the tracked objects.
   t0 = Clock::now();
@@ -226,7 +256,10 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
   out.times.presegment_ms = msSince(t0);
 
-  for (const Track& t : tracks_) out.objects.push_back(t.out);
+  for (const Track& t : tracks_) {
+    out.objects.push_back(t.out);
+    out.objects.back().parent = trackIdOf(graph_.node(t.out.node).parent);
+  }
   out.measurements = std::move(sets);
   out.times.total_ms = msSince(t_frame);
   return out;

@@ -208,8 +208,6 @@ class Parser {
     if (!root.IsMap()) r.fail("expected a map of scenario fields (duration, world, catalog, objects, ...)");
     r.allowKeys({"duration", "seed", "start_time", "world", "catalog", "mesh_dir", "objects", "distractors", "robot",
                  "camera", "lidar", "noise", "detections", "relations"});
-    if (const auto rel = r.optional("relations"))
-      rel->fail("reserved for relation ground truth, not implemented yet: remove it");
 
     s_.duration = r.required("duration").positive();
     if (const auto f = r.optional("seed")) s_.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
@@ -229,6 +227,10 @@ class Parser {
       const ObjectSpec* c = s_.findObject(o.inside->container);
       if (!c || c == &o) field.fail("'" + o.inside->container + "' is not the id of another object");
     }
+    if (const auto f = r.optional("relations"))
+      for (const Field& rel : f->list()) parseRelation(rel);
+    for (const ObjectSpec& o : s_.objects)
+      if (o.inside) s_.relations.push_back({o.id, relations::Relation::In, o.inside->container, o.inside->from});
     if (const auto f = r.optional("camera")) parseCamera(*f);
     else s_.camera.T_base_camera = defaultCameraMount();
     if (const auto f = r.optional("lidar")) parseLidar(*f);
@@ -411,6 +413,32 @@ class Parser {
       inside_fields_.emplace_back(s_.objects.size(), f->required("container"));
     }
     s_.objects.push_back(std::move(spec));
+  }
+
+  // {subject: ID, relation: NAME, object: ID | workbench, from: t, to: t}
+  void parseRelation(const Field& f) {
+    f.allowKeys({"subject", "relation", "object", "from", "to"});
+    RelationSpec spec;
+    const Field subject = f.required("subject"), object = f.required("object"), relation = f.required("relation");
+    spec.subject = subject.string();
+    if (!s_.findObject(spec.subject)) subject.fail("'" + spec.subject + "' is not the id of an object");
+    spec.object = object.string();
+    const bool furniture = spec.object == kWorkbenchName && s_.workbench.has_value();
+    if (!furniture && !s_.findObject(spec.object))
+      object.fail("'" + spec.object + "' is not the id of an object" + (s_.workbench ? " or workbench" : ""));
+    if (spec.object == spec.subject) object.fail("an object stands in no relation to itself");
+    const auto r = relations::parseRelation(relation.string());
+    if (!r) relation.fail("unknown relation '" + relation.string() +
+                          "' (expected on, in, left_of, right_of, in_front_of, behind, above or below)");
+    spec.relation = *r;
+    if (const auto from = f.optional("from")) spec.from = from->nonNegative();
+    if (const auto to = f.optional("to")) {
+      spec.to = to->number();
+      std::ostringstream from;
+      from << spec.from;
+      if (!(spec.to > spec.from)) to->fail("expected a time after from (" + from.str() + ")");
+    }
+    s_.relations.push_back(spec);
   }
 
   void parseDistractor(const Field& d, std::set<std::string>& ids) {

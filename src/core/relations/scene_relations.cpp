@@ -1,0 +1,80 @@
+#include "scene_graph_tracker/relations/scene_relations.hpp"
+
+#include <algorithm>
+
+#include "scene_graph_tracker/scene/raycast_scene.hpp"
+
+namespace sgt::relations {
+namespace {
+
+constexpr Relation kDirections[] = {Relation::LeftOf, Relation::RightOf, Relation::InFrontOf,
+                                    Relation::Behind, Relation::Above,   Relation::Below};
+
+double lowest(const OrientedBox& b) {
+  double z = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& c : corners(b)) z = std::min(z, c.z());
+  return z;
+}
+double highest(const OrientedBox& b) {
+  double z = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& c : corners(b)) z = std::max(z, c.z());
+  return z;
+}
+
+}  // namespace
+
+std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
+                                 const SceneRelationOptions& o, const std::optional<Eigen::Isometry3d>& T_world_camera) {
+  std::vector<Edge> out;
+  for (const Entity& t : entities) {
+    if (!t.movable) continue;
+    // What the rays say t rests on (kNoNode: nothing, or no scene to cast into).
+    NodeId rests_on = kNoNode;
+    if (scene) {
+      const Support s = supportBelow(*scene, t.box, t.node, o.support);
+      if (s.fraction >= o.min_support) rests_on = s.node;
+    }
+    for (const Entity& r : entities) {
+      if (&r == &t) continue;
+      const NodeId r_node = r.movable ? r.node : map_node;
+      const bool rests_on_r = rests_on != kNoNode && rests_on == r_node;
+      const bool in = r.movable && (contains(r.box, t.box, o.box.tolerance) ||
+                                    (rests_on_r && intersects(r.box, t.box) && lowest(t.box) < highest(r.box)));
+      // With rays, "on" needs contact: something held 1 cm over a crate's rim is not on it.
+      const bool box_on = holds(Relation::On, Mode::Relaxed, t.box, r.box, o.box);
+      const bool on = scene ? rests_on_r && (r.movable || box_on) : box_on;
+      if (in || on) out.push_back({t.name, in ? Relation::In : Relation::On, r.name});
+      if (!o.directional || !r.movable) continue;
+      for (Relation d : kDirections) {
+        const bool h = o.camera_relative && T_world_camera
+                           ? holdsFromViewpoint(d, o.directional_mode, t.box, r.box, *T_world_camera, o.box)
+                           : holds(d, o.directional_mode, t.box, r.box, o.box);
+        if (h) out.push_back({t.name, d, r.name});
+      }
+    }
+  }
+  // Support is one-way: two boxes each "on" or "in" the other (duplicate tracks of one object)
+  // say nothing about either.
+  auto supports = [](const Edge& e) { return e.relation == Relation::On || e.relation == Relation::In; };
+  auto mutual = [&](const Edge& e) {
+    return supports(e) && std::any_of(out.begin(), out.end(), [&](const Edge& f) {
+             return supports(f) && f.subject == e.object && f.object == e.subject;
+           });
+  };
+  std::vector<Edge> kept;
+  for (const Edge& e : out)
+    if (!mutual(e)) kept.push_back(e);
+  return kept;
+}
+
+Entity workbenchEntity(const Building& building, const std::string& name) {
+  constexpr double kSlab = 0.04;
+  Entity e;
+  e.name = name;
+  e.movable = false;
+  e.box.T_world_box.translation() = building.workbench_top_centre.cast<double>() - Eigen::Vector3d(0, 0, kSlab / 2);
+  e.box.half_extents = Eigen::Vector3d(building.workbench_size.x() / 2, building.workbench_size.y() / 2, kSlab / 2);
+  return e;
+}
+
+}  // namespace sgt::relations
