@@ -29,11 +29,15 @@ bench: build
 # Simulate the default scenario into a bag, then replay it through the pipeline and score it.
 DEMO_DIR ?= $(BUILD)/demo
 DEMO_SCENARIO ?= config/scenarios/workbench.yaml
+# Hypotheses from the package's keypoint detector on the RGB images (models/sgt_keypoints.yaml);
+# `make demo DEMO_DETECTOR=` uses the bag's simulated hypotheses instead (refinement alone).
+DEMO_DETECTOR ?= default
 TOOLS := $(BUILD)/devel/lib/scene_graph_tracker
 demo: build
 	@mkdir -p $(DEMO_DIR)
 	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag $(DEMO_SIMULATE_ARGS)
-	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) --scenario $(DEMO_SCENARIO) $(DEMO_EVALUATE_ARGS)
+	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) --scenario $(DEMO_SCENARIO) \
+	  $(if $(DEMO_DETECTOR),--detector $(DEMO_DETECTOR)) $(DEMO_EVALUATE_ARGS)
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build

@@ -16,8 +16,8 @@
 -- [lo, hi]: T is inside exactly when its 8 corners are. Not used, with reasons:
 --   SFCGAL's exact ST_3DDifference / ST_3DIntersection + ST_Volume: same answers, but ~0.4 s per
 --     pair of rotated boxes in SFCGAL 1.4 (test_semap_sql cross-checks a few pairs);
---   ST_3DIntersects(solid, corner point): PostGIS 3.3 never returns when the point lies exactly on
---     a face (e.g. the centre of one), so boxes that share a face would hang the query.
+--   ST_3DIntersects(solid, corner point): PostGIS 3.3 did not return (10 s timeout) for a point on
+--     a face (the centre of one), so boxes that share a face could hang the query.
 -- Intersection: ST_3DIntersects on the solids (true also when one is inside the other).
 -- Distance: ST_3DDistance on the solids (0 when they overlap).
 

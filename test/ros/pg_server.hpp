@@ -40,7 +40,7 @@ class PgServer {
   }
   ~PgServer() {
     script("stop");
-    std::system(("rm -rf '" + dir_ + "'").c_str());
+    std::system(("rm -rf '" + dir_ + "' 2>/dev/null || (sleep 1; rm -rf '" + dir_ + "')").c_str());
   }
   PgServer(const PgServer&) = delete;
   PgServer& operator=(const PgServer&) = delete;
