@@ -56,7 +56,10 @@ start() {
     psql_q -d postgres -c "CREATE DATABASE \"$db\""
   fi
   if [[ -n $sql_dir && -f $sql_dir/semap_schema.sql ]]; then
-    psql_q -d "$db" -f "$sql_dir/semap_schema.sql" -f "$sql_dir/semap_relations.sql" >/dev/null
+    # One transaction holding the installer lock that semap_bridge takes too: a bridge reconnecting
+    # while this runs would otherwise fail both with "tuple concurrently updated".
+    psql_q -d "$db" -1 -c "SELECT pg_advisory_xact_lock(7362770)" \
+      -f "$sql_dir/semap_schema.sql" -f "$sql_dir/semap_relations.sql" >/dev/null
   fi
   echo "semap-db: database '$db' ready: psql -h 127.0.0.1 -p $port -U postgres $db"
 }

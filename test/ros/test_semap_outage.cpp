@@ -63,6 +63,13 @@ TEST(SemapOutage, ServerStoppedAndRestartedMidRunLosesNothing) {
       pushed = i + 1;
     }
   });
+  // Joined on every way out (a failing pg.stop()/start() throws): never destroyed joinable.
+  struct Joiner {
+    std::thread& t;
+    ~Joiner() {
+      if (t.joinable()) t.join();
+    }
+  } joiner{feeder};
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const auto before = writer.stats();
   pg.stop();  // pg_ctl stop -m fast while frames keep coming
