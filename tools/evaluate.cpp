@@ -119,7 +119,11 @@ int main(int argc, char** argv) {
         bf.frame.hypotheses.clear();
         if (bf.rgb) {
           const auto t0 = std::chrono::steady_clock::now();
-          const auto detections = detector->detect(bf.rgb->rgb, bf.rgb->camera);
+          // The registered depth image (the frame's pinhole set) gives the detections their distance.
+          const RangeMeasurements* depth = nullptr;
+          for (const RangeMeasurements& m : bf.frame.measurements)
+            if (std::holds_alternative<PinholeModel>(m.model)) depth = &m;
+          const auto detections = detector->detect(bf.rgb->rgb, bf.rgb->camera, depth);
           detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
           for (const auto& d : detections)
             if (d.pnp.ok())

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/detection/cuboid_pnp.hpp"
+#include "scene_graph_tracker/detection/depth_translation.hpp"
 #include "scene_graph_tracker/detection/keypoint_detector.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 
@@ -30,14 +31,18 @@ class PoseDetector {
 
   KeypointDetector& keypoints() { return detector_; }
   PnpOptions& pnpOptions() { return pnp_; }
-  // Every detection with its PnP result (also the rejected ones, e.g. for a debug image).
-  std::vector<ObjectDetection> detect(const cv::Mat& rgb, const PinholeModel& camera);
+  // Every detection with its PnP result (also the rejected ones, e.g. for a debug image). With a
+  // registered depth image (range measurements of the same camera) the accepted poses get their
+  // distance from it (depth_translation.hpp).
+  std::vector<ObjectDetection> detect(const cv::Mat& rgb, const PinholeModel& camera,
+                                      const RangeMeasurements* depth = nullptr);
   const PoseDetectorStats& stats() const { return stats_; }
 
  private:
   KeypointDetector detector_;
   PnpOptions pnp_;
   std::map<std::string, std::array<Eigen::Vector3d, kCuboidKeypoints>> cuboids_;  // per known class
+  std::map<std::string, Eigen::AlignedBox3d> boxes_;
   PoseDetectorStats stats_;
 };
 

@@ -12,12 +12,14 @@ PoseDetector::PoseDetector(const std::string& model_yaml, const ObjectCatalog& c
   for (const std::string& name : detector_.info().names) {
     if (!catalog.contains(name)) continue;
     const Eigen::AlignedBox3f& b = catalog.get(name).box;
-    cuboids_[name] = cuboidKeypoints(Eigen::AlignedBox3d(b.min().cast<double>(), b.max().cast<double>()));
+    boxes_[name] = Eigen::AlignedBox3d(b.min().cast<double>(), b.max().cast<double>());
+    cuboids_[name] = cuboidKeypoints(boxes_[name]);
   }
   if (cuboids_.empty()) throw DetectorError("model " + model_yaml + ": none of its classes is in the object catalog");
 }
 
-std::vector<ObjectDetection> PoseDetector::detect(const cv::Mat& rgb, const PinholeModel& camera) {
+std::vector<ObjectDetection> PoseDetector::detect(const cv::Mat& rgb, const PinholeModel& camera,
+                                                  const RangeMeasurements* depth) {
   std::vector<ObjectDetection> out;
   for (Detection& d : detector_.detect(rgb)) {
     ++stats_.detections;
@@ -28,6 +30,9 @@ std::vector<ObjectDetection> PoseDetector::detect(const cv::Mat& rgb, const Pinh
     } else {
       od.pnp = solveCuboidPnp(d.keypoints, cuboid->second, camera, pnp_);
       if (!od.pnp.ok()) ++stats_.rejected[pnpStatusName(od.pnp.status)];
+      if (od.pnp.ok() && depth)
+        if (const auto T = depthCorrectedPose(d, od.pnp.T_camera_object, boxes_.at(d.class_name), *depth))
+          od.pnp.T_camera_object = *T;
     }
     od.detection = std::move(d);
     out.push_back(std::move(od));
