@@ -37,11 +37,14 @@ def read_labels(path, w, h):
 
 
 class KeypointDataset(torch.utils.data.Dataset):
-    def __init__(self, root, size=320, augment=False, seed=0):
+    def __init__(self, root, size=320, augment=False, seed=0, canvas=None):
+        """Letterboxed to size x size; with augment, a canvas x canvas window (default size) of a
+        randomly scaled (0.65-1.5) and shifted letterbox."""
         self.images = sorted(glob.glob(os.path.join(root, "images", "*.png")))
         if not self.images:
             raise FileNotFoundError(f"no images in {root}/images")
         self.root, self.size, self.augment = root, size, augment
+        self.canvas = canvas or size
         self.rng = np.random.default_rng(seed)
 
     def __len__(self):
@@ -53,22 +56,24 @@ class KeypointDataset(torch.utils.data.Dataset):
         stem = os.path.splitext(os.path.basename(self.images[i]))[0]
         cls, boxes, kp = read_labels(os.path.join(self.root, "labels", stem + ".txt"), w, h)
         r, dx, dy = letterbox_affine(w, h, self.size)
+        out = self.size
         if self.augment:
+            out = self.canvas
             s = r * self.rng.uniform(0.65, 1.5)
-            dx = self.rng.uniform(min(0.0, self.size - w * s), max(0.0, self.size - w * s))
-            dy = self.rng.uniform(min(0.0, self.size - h * s), max(0.0, self.size - h * s))
+            dx = self.rng.uniform(min(0.0, out - w * s), max(0.0, out - w * s))
+            dy = self.rng.uniform(min(0.0, out - h * s), max(0.0, out - h * s))
             r = s
         # Continuous coordinates map by u' = r u + d; warpAffine works on pixel indices.
         m = np.float32([[r, 0, dx + 0.5 * r - 0.5], [0, r, dy + 0.5 * r - 0.5]])
-        img = cv2.warpAffine(img, m, (self.size, self.size), flags=cv2.INTER_LINEAR, borderValue=(PAD, PAD, PAD))
-        boxes, kp, cls = self.transform_labels(boxes, kp, cls, r, dx, dy)
+        img = cv2.warpAffine(img, m, (out, out), flags=cv2.INTER_LINEAR, borderValue=(PAD, PAD, PAD))
+        boxes, kp, cls = self.transform_labels(boxes, kp, cls, r, dx, dy, out)
         if self.augment:
             img = self.photometric(img)
         x = torch.from_numpy(np.ascontiguousarray(img.transpose(2, 0, 1)))  # uint8 RGB CHW
         return x, torch.from_numpy(cls), torch.from_numpy(boxes), torch.from_numpy(kp)
 
-    def transform_labels(self, boxes, kp, cls, r, dx, dy):
-        size = self.size
+    @staticmethod
+    def transform_labels(boxes, kp, cls, r, dx, dy, size):
         boxes = boxes * r + np.float32([dx, dy, dx, dy])
         area = (boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1])
         clipped = np.clip(boxes, 0, size)

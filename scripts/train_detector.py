@@ -83,6 +83,8 @@ def main():
     ap.add_argument("--batch", type=int, default=16)
     ap.add_argument("--lr", type=float, default=3e-3)
     ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--train-size", type=int, default=256,
+                    help="training canvas (multiple of 32; smaller is faster; objects keep the scale of the 320 input)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--export-only", metavar="CHECKPOINT", help="export CHECKPOINT (a .pt of this script) and stop")
     args = ap.parse_args()
@@ -95,13 +97,14 @@ def main():
 
     torch.set_num_threads(2)
     torch.manual_seed(args.seed)
-    train = KeypointDataset(args.train, SIZE, augment=True, seed=args.seed)
+    train = KeypointDataset(args.train, SIZE, augment=True, seed=args.seed, canvas=args.train_size)
     val = KeypointDataset(args.val, SIZE, augment=False)
     loader = torch.utils.data.DataLoader(train, args.batch, shuffle=True, num_workers=args.workers, collate_fn=collate,
                                          drop_last=True, worker_init_fn=worker_init, persistent_workers=args.workers > 0)
     val_loader = torch.utils.data.DataLoader(val, 32, shuffle=False, num_workers=0, collate_fn=collate)
     net = KeypointNet(len(NAMES), NK, SIZE).to(memory_format=torch.channels_last)
-    criterion = DetectorLoss(len(NAMES), NK, SIZE)
+    criterion = DetectorLoss(len(NAMES), NK, args.train_size)
+    val_criterion = DetectorLoss(len(NAMES), NK, SIZE)
     decay = [p for n, p in net.named_parameters() if p.ndim > 1]
     no_decay = [p for n, p in net.named_parameters() if p.ndim <= 1]
     opt = torch.optim.AdamW([{"params": decay, "weight_decay": 5e-4}, {"params": no_decay, "weight_decay": 0.0}], lr=args.lr)
@@ -121,7 +124,7 @@ def main():
             if frac >= 1.0:
                 done = True
                 break
-            warm = min(1.0, (step + 1) / 100.0)
+            warm = min(1.0, (step + 1) / 30.0)
             for g in opt.param_groups:
                 g["lr"] = args.lr * warm * (0.03 + 0.97 * 0.5 * (1.0 + math.cos(math.pi * frac)))
             loss = criterion(net(to_input(images)), targets)
@@ -137,9 +140,10 @@ def main():
                 print(f"epoch {epoch} step {step} {(time.time() - start) / 60:.1f} min lr {opt.param_groups[0]['lr']:.2e} "
                       f"{fmt({k: v / n for k, v in sums.items()})}", flush=True)
         if n == 0:
+            epoch -= 1
             break
         train_loss = {k: v / n for k, v in sums.items()}
-        val_loss = evaluate(net, val_loader, criterion)
+        val_loss = evaluate(net, val_loader, val_criterion)
         history.append((epoch, train_loss["total"], val_loss["total"]))
         print(f"== epoch {epoch} ({n} steps, {(time.time() - t_epoch) / 60:.1f} min) train {fmt(train_loss)}\n"
               f"   val {fmt(val_loss)}", flush=True)
@@ -158,7 +162,7 @@ def main():
     export(net, args.output, SIZE)
     write_metadata(os.path.splitext(args.output)[0] + ".yaml", SIZE, NK, {
         "images": len(train), "val_images": len(val), "epochs": epoch, "steps": step, "batch": args.batch,
-        "minutes": round(minutes, 1), "best_epoch": state["epoch"],
+        "train_canvas": args.train_size, "minutes": round(minutes, 1), "best_epoch": state["epoch"],
         "train_loss": round(state["train"]["total"], 4), "val_loss": round(state["val"]["total"], 4),
         "val_recall": round(state["val"]["recall"], 3), "val_keypoint_px": round(state["val"]["kpt_px"], 2)})
     print(f"done: {epoch} epochs, {step} steps, {minutes:.1f} min; best epoch {state['epoch']} "
