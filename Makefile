@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo latency clean
+.PHONY: deps build test bench demo latency model clean
 
 deps:
 	@scripts/install-deps.sh
@@ -42,6 +42,23 @@ demo: build
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build
 	@scripts/latency.sh $(DEMO_DIR)/workbench.bag $(BUILD)/latency.json
+
+# The keypoint detector: render labelled train and val sets, train for MODEL_MINUTES (wall clock),
+# export models/sgt_keypoints.onnx + .yaml, evaluate (when evaluate_detector exists).
+MODEL_DIR ?= $(BUILD)/model
+MODEL_MINUTES ?= 60
+MODEL_TRAIN_IMAGES ?= 6000
+MODEL_VAL_IMAGES ?= 400
+model: build
+	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
+	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed 1
+	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2
+	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
+	  --minutes $(MODEL_MINUTES) --output models/sgt_keypoints.onnx --checkpoint-dir $(MODEL_DIR)/checkpoints \
+	  2>&1 | tee $(MODEL_DIR)/train.log
+	@if [ -x $(TOOLS)/evaluate_detector ]; then \
+	  $(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model models/sgt_keypoints.onnx --output $(MODEL_DIR)/eval; \
+	else echo "model: $(TOOLS)/evaluate_detector not built yet, evaluation skipped"; fi
 
 clean:
 	rm -rf $(BUILD)

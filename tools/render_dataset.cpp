@@ -1,0 +1,385 @@
+// Renders a labelled training set for the keypoint detector (YOLOv8-pose layout, DOPE cuboid
+// keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
+//
+//   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--mesh-dir D]
+//
+// DIR/images/000123.png   640x480 RGB
+// DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
+//                         the image size; box = visible pixels; keypoints in the continuous pixel
+//                         convention (a pixel's centre at +0.5); v 2 inside the image (also when
+//                         occluded), else 0 with x = y = 0
+// DIR/poses/000123.json   camera K and per labelled object its class, T_camera_object and the
+//                         symmetry-canonical pose the keypoints were made from
+// DIR/dataset.yaml        ultralytics style
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <random>
+#include <string>
+
+#include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/simulation/rgb_render.hpp"
+#include "scene_graph_tracker/util/progress_bar.hpp"
+
+namespace fs = std::filesystem;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+using Eigen::Vector3f;
+
+namespace {
+
+const std::vector<std::string> kClasses = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
+constexpr int kMinVisiblePixels = 120;
+constexpr sgt::NodeId kMapNode = 1, kTableNode = 2, kFirstWallNode = 10, kFirstObjectNode = 100,
+                      kFirstDistractorNode = 200;
+constexpr double kPlanesOrigin = -200.0;  // x of the plain-walls room, far outside the building
+
+struct Args {
+  std::string output, mesh_dir;
+  std::size_t count = 0;
+  std::uint32_t seed = 1;
+};
+
+struct Rng {
+  std::mt19937 g;
+  double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
+  int integer(int a, int b) { return std::uniform_int_distribution<int>(a, b)(g); }
+  bool chance(double p) { return uniform(0.0, 1.0) < p; }
+  Vector3f colour() { return Vector3f(uniform(0.05, 0.95), uniform(0.05, 0.95), uniform(0.05, 0.95)); }
+  Eigen::Quaterniond rotation() {  // uniform
+    Eigen::Quaterniond q(std::normal_distribution<double>()(g), std::normal_distribution<double>()(g),
+                         std::normal_distribution<double>()(g), std::normal_distribution<double>()(g));
+    return q.normalized();
+  }
+};
+
+Isometry3d pose(const Eigen::Matrix3d& R, const Vector3d& t) {
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = t;
+  return T;
+}
+
+Eigen::Matrix3d yaw(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitZ()).toRotationMatrix(); }
+
+// Meshes registered once; every image instances some of them.
+struct Library {
+  std::vector<sgt::MeshId> classes, tables, distractors;
+  std::vector<Eigen::AlignedBox3d> class_boxes, table_boxes;
+  sgt::MeshId wall = -1;
+};
+
+// One image's randomised scene: what was placed, for labelling.
+struct Placed {
+  int class_id;
+  sgt::NodeId node;
+  Isometry3d T_world_object;
+};
+
+class DatasetRenderer {
+ public:
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed) : catalog_(catalog), seed_(seed) {
+    sgt::BuildingOptions b;
+    b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2, b.target_triangles = 80000, b.seed = seed;
+    building_ = sgt::makeBuilding(b);
+    scene_.setStaticMap(std::make_shared<sgt::TriangleMesh>(building_.mesh), kMapNode);
+    Rng rng{std::mt19937(seed ^ 0x5eedu)};
+    for (const auto& name : kClasses) {
+      const auto& c = catalog_.get(name);
+      lib_.classes.push_back(scene_.addMesh(c.mesh));
+      lib_.class_boxes.push_back(c.box.cast<double>());
+    }
+    for (int i = 0; i < 10; ++i) {
+      const Vector3f size(rng.uniform(0.5, 1.8), rng.uniform(0.4, 1.0), rng.uniform(0.4, 1.0));
+      lib_.tables.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
+      lib_.table_boxes.emplace_back(-0.5 * size.cast<double>(), 0.5 * size.cast<double>());
+    }
+    for (int i = 0; i < 24; ++i) {
+      std::shared_ptr<sgt::TriangleMesh> m;
+      if (i % 3 == 0)
+        m = std::make_shared<sgt::TriangleMesh>(
+            sgt::makeBox(Vector3f(rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3))));
+      else if (i % 3 == 1)
+        m = std::make_shared<sgt::TriangleMesh>(sgt::makeCylinder(rng.uniform(0.01, 0.1), rng.uniform(0.03, 0.35), 24));
+      else
+        m = std::make_shared<sgt::TriangleMesh>(sgt::makeSphere(rng.uniform(0.015, 0.12), 24, 12));
+      lib_.distractors.push_back(scene_.addMesh(m));
+    }
+    lib_.wall = scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(Vector3f(40.0f, 40.0f, 0.02f))));
+    colours_.static_map = kMapNode;
+    camera_.width = 640, camera_.height = 480;
+  }
+
+  void render(std::size_t index, const fs::path& dir);
+
+ private:
+  Vector3d placeSupport(Rng& rng, double& top, Eigen::Vector2d& half);
+  void placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half);
+  Isometry3d placeCamera(Rng& rng, const Vector3d& target);
+  void clear();
+  void writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
+                   const sgt::SimulatedScan& scan);
+
+  const sgt::ObjectCatalog& catalog_;
+  std::uint32_t seed_;
+  sgt::Building building_;
+  sgt::RaycastScene scene_;
+  Library lib_;
+  sgt::sim::NodeColours colours_;
+  sgt::PinholeModel camera_;
+  std::vector<Placed> placed_;
+  std::vector<sgt::NodeId> extra_nodes_;  // table, walls, distractors of the current image
+  bool in_building_ = true;
+  Eigen::AlignedBox3f room_;
+};
+
+void DatasetRenderer::clear() {
+  for (const auto& p : placed_) scene_.removeInstance(p.node);
+  for (const auto n : extra_nodes_) scene_.removeInstance(n);
+  placed_.clear(), extra_nodes_.clear();
+  colours_.albedo.clear();
+}
+
+// A table (or the bare floor) in a random building room or in a room of plain coloured walls.
+// Returns the centre of the support's top; `half` its half extents in x, y (world, axis-aligned).
+Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& half) {
+  in_building_ = rng.chance(0.5);
+  Vector3d centre;
+  if (in_building_) {
+    room_ = building_.rooms[rng.integer(0, static_cast<int>(building_.rooms.size()) - 1)];
+    centre = Vector3d(rng.uniform(room_.min().x() + 1.0, room_.max().x() - 1.0),
+                      rng.uniform(room_.min().y() + 1.0, room_.max().y() - 1.0), 0.0);
+  } else {
+    centre = Vector3d(kPlanesOrigin, 0.0, 0.0);
+    const double a = rng.uniform(0.0, 2.0 * M_PI);
+    const double h = rng.uniform(3.2, 5.0);
+    for (int w = 0; w < 6; ++w) {  // floor, ceiling, four walls at random distances
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      Vector3d t = centre;
+      if (w == 1) t.z() = h;
+      if (w >= 2) {
+        R = yaw(a + (w - 2) * M_PI / 2) * Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix();
+        t += yaw(a + (w - 2) * M_PI / 2) * Vector3d(rng.uniform(2.8, 6.0), 0.0, 0.0);
+      }
+      scene_.addInstance(kFirstWallNode + w, lib_.wall, pose(R, t));
+      colours_.albedo[kFirstWallNode + w] = rng.colour();
+      extra_nodes_.push_back(kFirstWallNode + w);
+    }
+  }
+  top = 0.0;
+  half = Eigen::Vector2d(rng.uniform(0.4, 0.8), rng.uniform(0.4, 0.8));
+  if (rng.chance(0.85)) {  // a table; otherwise the objects lie on the floor
+    const int k = rng.integer(0, static_cast<int>(lib_.tables.size()) - 1);
+    const Eigen::AlignedBox3d& b = lib_.table_boxes[k];
+    const bool turned = rng.chance(0.5);  // quarter turns keep the top axis-aligned
+    top = b.max().z() - b.min().z();
+    half = turned ? Eigen::Vector2d(b.max().y(), b.max().x()) : Eigen::Vector2d(b.max().x(), b.max().y());
+    scene_.addInstance(kTableNode, lib_.tables[k], pose(yaw(turned ? M_PI / 2 : 0.0), centre + Vector3d(0, 0, top / 2)));
+    colours_.albedo[kTableNode] = rng.chance(0.4) ? Vector3f(0.62f, 0.45f, 0.28f) * rng.uniform(0.7, 1.2) : rng.colour();
+    extra_nodes_.push_back(kTableNode);
+  }
+  return centre + Vector3d(0, 0, top);
+}
+
+// 1-6 catalog objects (sometimes several of a class): mostly resting on a face in a random yaw,
+// some in a random orientation; 0-6 distractor primitives.
+void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half) {
+  const int n = rng.integer(1, 6);
+  auto onSupport = [&](const Eigen::Matrix3d& R, const Eigen::AlignedBox3d& box) {
+    double lowest = 1e9;  // lowest corner of the rotated box
+    for (int c = 0; c < 8; ++c) lowest = std::min(lowest, (R * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))).z());
+    return Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.9, centre.y() + rng.uniform(-half.y(), half.y()) * 0.9,
+                    top - lowest);
+  };
+  for (int i = 0; i < n; ++i) {
+    const int cls = rng.integer(0, static_cast<int>(kClasses.size()) - 1);
+    Eigen::Matrix3d R;
+    if (rng.chance(0.75)) {  // resting on one of its six faces
+      static const Eigen::Matrix3d faces[6] = {
+          Eigen::Matrix3d::Identity(), Eigen::AngleAxisd(M_PI, Vector3d::UnitX()).toRotationMatrix(),
+          Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitX()).toRotationMatrix(),
+          Eigen::AngleAxisd(-M_PI / 2, Vector3d::UnitX()).toRotationMatrix(),
+          Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix(),
+          Eigen::AngleAxisd(-M_PI / 2, Vector3d::UnitY()).toRotationMatrix()};
+      R = yaw(rng.uniform(0, 2 * M_PI)) * faces[rng.chance(0.5) ? 0 : rng.integer(0, 5)];
+    } else {
+      R = rng.rotation().toRotationMatrix();
+    }
+    Vector3d t = onSupport(R, lib_.class_boxes[cls]);
+    if (R(2, 2) < 0.99 && rng.chance(0.3)) t.z() += rng.uniform(0.0, 0.3);  // held or stacked
+    const sgt::NodeId node = kFirstObjectNode + i;
+    scene_.addInstance(node, lib_.classes[cls], pose(R, t));
+    Vector3f c = sgt::sim::classColour(kClasses[cls]);
+    if (rng.chance(0.15)) c = rng.colour();
+    else c = (c + Vector3f(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1))).cwiseMax(0.02f).cwiseMin(1.0f);
+    colours_.albedo[node] = c;
+    placed_.push_back({cls, node, pose(R, t)});
+  }
+  const int d = rng.integer(0, 6);
+  for (int i = 0; i < d; ++i) {
+    const int k = rng.integer(0, static_cast<int>(lib_.distractors.size()) - 1);
+    const Eigen::Matrix3d R = rng.chance(0.6) ? yaw(rng.uniform(0, 2 * M_PI)) : rng.rotation().toRotationMatrix();
+    const Eigen::AlignedBox3d box = scene_.mesh(lib_.distractors[k]).boundingBox().cast<double>();
+    const sgt::NodeId node = kFirstDistractorNode + i;
+    scene_.addInstance(node, lib_.distractors[k], pose(R, onSupport(R, box)));
+    colours_.albedo[node] = rng.colour();
+    extra_nodes_.push_back(node);
+  }
+}
+
+// 0.5-2.5 m from a point near the objects, looking down 10-60 degrees, some roll.
+Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
+  for (int attempt = 0;; ++attempt) {
+    const double d = rng.uniform(0.5, 2.5), el = rng.uniform(10.0, 60.0) * M_PI / 180.0, az = rng.uniform(0, 2 * M_PI);
+    const Vector3d eye = target + d * Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const bool inside = !in_building_ || (eye.x() > room_.min().x() + 0.15 && eye.x() < room_.max().x() - 0.15 &&
+                                          eye.y() > room_.min().y() + 0.15 && eye.y() < room_.max().y() - 0.15 &&
+                                          eye.z() < room_.max().z() - 0.15);
+    if (!inside && attempt < 50) continue;
+    Isometry3d T = sgt::opticalLookAt(eye, target);
+    T.linear() = T.linear() * Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+  }
+}
+
+void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
+  Rng rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 2654435761u + index * 40503u + 17u))};
+  clear();
+  double top = 0.0;
+  Eigen::Vector2d half;
+  const Vector3d centre = placeSupport(rng, top, half);
+  placeObjects(rng, top, centre, half);
+  scene_.commit();
+  Vector3d target = Vector3d::Zero();
+  for (const auto& p : placed_) target += p.T_world_object.translation();
+  target = target / placed_.size() + Vector3d(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.05, 0.1));
+  camera_.fx = camera_.fy = rng.uniform(480.0, 620.0);
+  camera_.cx = 319.5 + rng.uniform(-8, 8), camera_.cy = 239.5 + rng.uniform(-8, 8);
+  const Isometry3d T_world_camera = placeCamera(rng, target);
+
+  sgt::sim::RenderStyle style;
+  style.light_direction = Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2, 1.0)).normalized();
+  style.ambient = rng.uniform(0.15, 0.5), style.diffuse = rng.uniform(0.2, 0.7), style.headlight = rng.uniform(0.0, 0.4);
+  style.background = rng.colour() * 0.3f;
+  style.floor_tile = rng.uniform(0.2, 0.8);
+  const sgt::SimulatedScan scan = sgt::simulate(scene_, sgt::makeRays(camera_), T_world_camera);
+  const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
+  cv::Mat bgr;
+  cv::cvtColor(cv::Mat(camera_.height, camera_.width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data())), bgr, cv::COLOR_RGB2BGR);
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu", index);
+  cv::imwrite((dir / "images" / (std::string(name) + ".png")).string(), bgr);
+  writeLabels(index, dir, T_world_camera, scan);
+}
+
+void writeMatrix(std::ostream& os, const Isometry3d& T) {
+  os << "[";
+  for (int r = 0; r < 4; ++r) {
+    os << (r ? ", [" : "[");
+    for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << T.matrix()(r, c);
+    os << "]";
+  }
+  os << "]";
+}
+
+void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
+                                  const sgt::SimulatedScan& scan) {
+  struct Visible {
+    int pixels = 0, x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+  };
+  std::map<sgt::NodeId, Visible> vis;
+  for (int v = 0; v < scan.height; ++v)
+    for (int u = 0; u < scan.width; ++u) {
+      const sgt::NodeId n = scan.node[static_cast<std::size_t>(v) * scan.width + u];
+      if (n < kFirstObjectNode || n >= kFirstDistractorNode) continue;
+      Visible& s = vis[n];
+      ++s.pixels, s.x0 = std::min(s.x0, u), s.y0 = std::min(s.y0, v), s.x1 = std::max(s.x1, u), s.y1 = std::max(s.y1, v);
+    }
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu", index);
+  std::ofstream txt(dir / "labels" / (std::string(name) + ".txt"));
+  std::ofstream json(dir / "poses" / (std::string(name) + ".json"));
+  txt.precision(6), json.precision(9);
+  const double W = camera_.width, H = camera_.height;
+  json << "{\"width\": " << camera_.width << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, "
+       << camera_.cx << ", 0, " << camera_.fy << ", " << camera_.cy << ", 0, 0, 1],\n \"objects\": [";
+  bool first = true;
+  for (const auto& p : placed_) {
+    const auto it = vis.find(p.node);
+    if (it == vis.end() || it->second.pixels < kMinVisiblePixels) continue;
+    const Visible& s = it->second;
+    const sgt::ObjectClass& oc = catalog_.get(kClasses[p.class_id]);
+    const Isometry3d T = T_world_camera.inverse() * p.T_world_object;
+    const Isometry3d T_label = sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
+    const auto proj = sgt::detection::projectCuboid(camera_, T_label, lib_.class_boxes[p.class_id]);
+    txt << p.class_id << ' ' << (s.x0 + s.x1 + 1) / (2 * W) << ' ' << (s.y0 + s.y1 + 1) / (2 * H) << ' '
+        << (s.x1 - s.x0 + 1) / W << ' ' << (s.y1 - s.y0 + 1) / H;
+    for (int k = 0; k < sgt::detection::kCuboidKeypoints; ++k) {
+      if (proj.inside[k]) txt << ' ' << (proj.uv[k].x() + 0.5) / W << ' ' << (proj.uv[k].y() + 0.5) / H << " 2";
+      else txt << " 0 0 0";
+    }
+    txt << '\n';
+    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << kClasses[p.class_id] << "\", \"class_id\": " << p.class_id
+         << ", \"visible_pixels\": " << s.pixels << ", \"T_camera_object\": ";
+    writeMatrix(json, T);
+    json << ", \"T_camera_object_label\": ";
+    writeMatrix(json, T_label);
+    json << "}";
+    first = false;
+  }
+  json << "]}\n";
+}
+
+void usage(std::ostream& os) {
+  os << "usage: render_dataset --output DIR --count N [--seed S] [--mesh-dir D]\n"
+        "  --output    dataset directory (images/, labels/, poses/, dataset.yaml)\n"
+        "  --count     number of images\n"
+        "  --seed      random seed (default 1); the same seed renders the same images\n"
+        "  --mesh-dir  use the meshes in D for the catalog classes\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help") return usage(std::cout), 0;
+    if (i + 1 >= argc) return std::cerr << "render_dataset: " << a << " needs a value\n", usage(std::cerr), 2;
+    const std::string v = argv[++i];
+    if (a == "--output") args.output = v;
+    else if (a == "--count") args.count = std::stoul(v);
+    else if (a == "--seed") args.seed = static_cast<std::uint32_t>(std::stoul(v));
+    else if (a == "--mesh-dir") args.mesh_dir = v;
+    else return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
+  }
+  if (args.output.empty() || args.count == 0) return usage(std::cerr), 2;
+  try {
+    const fs::path dir = fs::absolute(args.output);
+    for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
+    const sgt::ObjectCatalog catalog =
+        sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
+    DatasetRenderer renderer(catalog, args.seed);
+    sgt::ProgressBar bar("render_dataset", args.count);
+    for (std::size_t i = 0; i < args.count; ++i) {
+      renderer.render(i, dir);
+      bar.update(i + 1);
+    }
+    bar.finish();
+    std::ofstream yaml(dir / "dataset.yaml");
+    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << "\npath: " << dir.string()
+         << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
+    for (std::size_t c = 0; c < kClasses.size(); ++c) yaml << "  " << c << ": " << kClasses[c] << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "render_dataset: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
