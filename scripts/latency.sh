@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # make latency: replays BAG (default: build/demo/workbench.bag, simulated when missing) at 1x
 # through replay.launch (no rviz) and measures image stamp -> tracked objects published.
+# LATENCY_LAUNCH_ARGS="detector:=false" passes arguments to replay.launch.
 set -eo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bag="${1:-$root/build/demo/workbench.bag}"
@@ -15,7 +16,7 @@ set +u; source "$root/build/devel/setup.bash"; set -u
 export ROS_PACKAGE_PATH="$root:${ROS_PACKAGE_PATH:-}"
 port=11398
 export ROS_MASTER_URI=http://localhost:$port
-roslaunch -p $port scene_graph_tracker replay.launch bag:="$(realpath "$bag")" rviz:=false > "$root/build/latency_launch.log" 2>&1 &
+roslaunch -p $port scene_graph_tracker replay.launch bag:="$(realpath "$bag")" rviz:=false ${LATENCY_LAUNCH_ARGS:-} > "$root/build/latency_launch.log" 2>&1 &
 launch=$!
 trap 'kill -INT $launch 2>/dev/null || true; wait $launch 2>/dev/null || true' EXIT
 # The probe must start after replay.launch set /use_sim_time (the clock is read at node start).
