@@ -1,0 +1,81 @@
+// Training labels of the keypoint detector: the symmetry-canonical label pose (the same label for
+// every symmetric twin of a pose, the pose itself for an asymmetric object) and the projected
+// cuboid keypoints with their inside-the-image flags.
+#include <gtest/gtest.h>
+
+#include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "support.hpp"
+
+namespace sgt::detection {
+namespace {
+
+Eigen::Isometry3d pose(double rx, double ry, double rz, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+TEST(KeypointLabels, AsymmetricObjectKeepsItsPose) {
+  const Eigen::Isometry3d T = pose(0.3, -0.2, 1.1, {0.1, 0.0, 1.0});
+  EXPECT_TRUE(canonicalSymmetricPose(T, Symmetry{}).isApprox(T));
+}
+
+TEST(KeypointLabels, DiscreteTwinsGetOneLabel) {
+  Symmetry klt;  // 180 degrees about z
+  Eigen::Isometry3d S = Eigen::Isometry3d::Identity();
+  S.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  klt.discrete.push_back(S);
+  for (double yaw : {0.2, 1.4, 2.9, -2.0}) {
+    const Eigen::Isometry3d T = pose(-2.2, 0.1, yaw, {0.0, 0.1, 1.2});
+    const Eigen::Isometry3d a = canonicalSymmetricPose(T, klt), b = canonicalSymmetricPose(T * S, klt);
+    EXPECT_TRUE(a.isApprox(b, 1e-9)) << "yaw " << yaw;
+    EXPECT_TRUE(a.isApprox(T) || a.isApprox(T * S)) << "the label is one of the twins";
+    // ... the one closer to the canonical camera-frame rotation.
+    const auto angle = [](const Eigen::Matrix3d& R) {
+      return Eigen::AngleAxisd(canonicalLabelRotation().transpose() * R).angle();
+    };
+    EXPECT_LE(angle(a.linear()), std::min(angle(T.linear()), angle((T * S).linear())) + 1e-9);
+  }
+}
+
+TEST(KeypointLabels, ContinuousSymmetryLabelIsStableUnderTheAxisRotation) {
+  Symmetry screwdriver;
+  screwdriver.continuous.push_back({Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero()});
+  const Eigen::Isometry3d T = pose(0.0, 0.4, 0.7, {0.0, 0.0, 0.8});
+  const Eigen::Isometry3d base = canonicalSymmetricPose(T, screwdriver);
+  for (double spin : {0.5, 1.7, -2.6}) {
+    Eigen::Isometry3d R = Eigen::Isometry3d::Identity();
+    R.linear() = Eigen::AngleAxisd(spin, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Isometry3d other = canonicalSymmetricPose(T * R, screwdriver);
+    // Sampled every 5 degrees: the labels agree to within one step.
+    EXPECT_LT(test::rotationErrorDeg(other.linear(), base.linear()), 5.01) << "spin " << spin;
+    EXPECT_TRUE(other.translation().isApprox(T.translation()));
+  }
+}
+
+TEST(KeypointLabels, ProjectionMarksWhatLandsInTheImage) {
+  const PinholeModel cam;
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.02), Eigen::Vector3d(0.1, 0.05, 0.02));
+  // Centred in front of the camera: all nine inside, the centre on the principal point.
+  auto p = projectCuboid(cam, pose(0, 0, 0, {0, 0, 1.0}), box);
+  for (int k = 0; k < kCuboidKeypoints; ++k) EXPECT_TRUE(p.inside[k]) << k;
+  EXPECT_TRUE(p.uv[8].isApprox(Eigen::Vector2d(cam.cx, cam.cy)));
+  // Front top right (+x +y +z) at z = 1.02 m (the object frame is the camera frame turned by nothing).
+  EXPECT_NEAR(p.uv[0].x(), cam.cx + cam.fx * 0.1 / 1.02, 1e-9);
+  EXPECT_NEAR(p.uv[0].y(), cam.cy + cam.fy * 0.05 / 1.02, 1e-9);
+  // Half out of the image on the right: the +x corners are outside (and zero), the -x inside.
+  const double x_edge = (cam.width - 0.5 - cam.cx) / cam.fx;  // at z = 1
+  p = projectCuboid(cam, pose(0, 0, 0, {x_edge, 0, 1.0}), box);
+  EXPECT_FALSE(p.inside[0]);
+  EXPECT_TRUE(p.uv[0].isZero());
+  EXPECT_TRUE(p.inside[1]);
+  // Behind the camera: nothing inside.
+  p = projectCuboid(cam, pose(0, 0, 0, {0, 0, -1.0}), box);
+  for (int k = 0; k < kCuboidKeypoints; ++k) EXPECT_FALSE(p.inside[k]) << k;
+}
+
+}  // namespace
+}  // namespace sgt::detection
