@@ -16,6 +16,7 @@
 #include <optional>
 #include <set>
 
+#include "command_line.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
 #include "scene_graph_tracker/geometry/building.hpp"
@@ -35,21 +36,13 @@ struct Args {
   bool relations = true;
 };
 
-[[noreturn]] void usage(const std::string& error) {
-  std::cerr << "evaluate: " << error
-            << "\nusage: evaluate --bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
-               "[--no-plots] [--oracle-localization] [--detector MODEL.yaml|default] [--scenario FILE] [--no-relations]\n";
-  std::exit(2);
-}
-
 Args parse(int argc, char** argv) {
+  const sgt::cli::Flags flags("evaluate",
+                              "--bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
+                              "[--no-plots] [--oracle-localization] [--detector MODEL.yaml|default] [--scenario FILE] "
+                              "[--no-relations]");
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(k + " needs a value");
-      return argv[++i];
-    };
+  flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag") a.bag = value();
     else if (k == "--output") a.output = value();
     else if (k == "--map") a.map = value();
@@ -60,9 +53,10 @@ Args parse(int argc, char** argv) {
     else if (k == "--detector") a.detector = value();
     else if (k == "--scenario") a.scenario = value();
     else if (k == "--no-relations") a.relations = false;
-    else usage("unknown argument " + k);
-  }
-  if (a.bag.empty() || a.output.empty()) usage("--bag and --output are required");
+    else return false;
+    return true;
+  });
+  if (a.bag.empty() || a.output.empty()) flags.fail("--bag and --output are required");
   if (a.detector == "default") a.detector = std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml";
   return a;
 }

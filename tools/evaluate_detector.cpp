@@ -16,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "command_line.hpp"
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
@@ -32,30 +33,21 @@ struct Args {
   int debug_images = 8;
 };
 
-[[noreturn]] void usage(const std::string& error) {
-  std::cerr << "evaluate_detector: " << error
-            << "\nusage: evaluate_detector --dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] "
-               "[--debug-images K]\n";
-  std::exit(2);
-}
-
 Args parse(int argc, char** argv) {
+  const sgt::cli::Flags flags("evaluate_detector",
+                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] [--debug-images K]");
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(k + " needs a value");
-      return argv[++i];
-    };
+  flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--dataset") a.dataset = value();
     else if (k == "--model") a.model = value();
     else if (k == "--output") a.output = value();
     else if (k == "--catalog") a.catalog = value();
     else if (k == "--limit") a.limit = std::stoul(value());
     else if (k == "--debug-images") a.debug_images = std::stoi(value());
-    else usage("unknown argument " + k);
-  }
-  if (a.dataset.empty() || a.model.empty() || a.output.empty()) usage("--dataset, --model and --output are required");
+    else return false;
+    return true;
+  });
+  if (a.dataset.empty() || a.model.empty() || a.output.empty()) flags.fail("--dataset, --model and --output are required");
   return a;
 }
 

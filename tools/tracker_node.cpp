@@ -1,16 +1,6 @@
-// The tracker as a plain node: loads TrackerNodelet into its own process (for use without a
-// nodelet manager). Remappings and private parameters pass through.
-#include <nodelet/loader.h>
-#include <ros/ros.h>
+// The tracker as a plain node: TrackerNodelet in its own process.
+#include "nodelet_main.hpp"
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "tracker");
-  nodelet::Loader loader;
-  const nodelet::M_string remappings(ros::names::getRemappings());
-  if (!loader.load(ros::this_node::getName(), "scene_graph_tracker/TrackerNodelet", remappings, {})) {
-    ROS_FATAL("could not load scene_graph_tracker/TrackerNodelet (is the package built and on ROS_PACKAGE_PATH?)");
-    return 1;
-  }
-  ros::spin();
-  return 0;
+  return sgt::cli::runNodelet(argc, argv, "tracker", "scene_graph_tracker/TrackerNodelet");
 }
