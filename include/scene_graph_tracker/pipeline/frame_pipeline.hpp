@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_graph_tracker/geometry/rigid.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
 #include "scene_graph_tracker/relations/relation_hysteresis.hpp"
@@ -138,7 +139,7 @@ class FramePipeline {
   const SceneGraph& graph() const { return graph_; }
   const RaycastScene& scene() const { return scene_; }
   const Eigen::Isometry3d& T_map_odom() const { return T_map_odom_; }
-  void setMapOdom(const Eigen::Isometry3d& T) { T_map_odom_ = T; }
+  void setMapOdom(const Eigen::Isometry3d& T) { T_map_odom_ = rigid(T); }
   // Tracks by hand (services): a tentative track of a catalog class at a map pose; its id.
   std::string addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
   bool removeTrack(const std::string& id);

@@ -216,7 +216,7 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     out.localized = out.localization.status == LocalizeStatus::kOk;
     if (out.localized) {
       const Eigen::Isometry3d correction = out.localization.T_map_base * prior.inverse();
-      T_map_odom_ = correction * T_map_odom_;
+      T_map_odom_ = rigid(correction * T_map_odom_);
       for (RangeMeasurements& m : sets) m.T_world_sensor = correction * m.T_world_sensor;
     }
   }

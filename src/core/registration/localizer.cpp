@@ -1,5 +1,7 @@
 #include "scene_graph_tracker/registration/localizer.hpp"
 
+#include "scene_graph_tracker/geometry/rigid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -77,7 +79,7 @@ LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<
       break;
     }
     if (a.steps == 0) break;
-    T = T * a.T;
+    T = rigid(T * a.T);
     const double moved_t = a.T.translation().norm(), moved_r = Eigen::AngleAxisd(a.T.linear()).angle();
     // Robust scale of the residuals (1.4826 x median absolute residual = sigma for Gaussian
     // noise): people and moved things inside the threshold must not hold it open.
