@@ -47,6 +47,25 @@ TEST(PoseMetrics, DiscreteSymmetryAwareErrors) {
   EXPECT_NEAR(p.add, 2.0 * std::sin(88.5 * M_PI / 180.0), 1e-6);  // chord of 177 deg
 }
 
+TEST(PoseMetrics, SparseSamplesOfASymmetricObjectDoNotInflateAddS) {
+  // Three samples of a crate that is symmetric under a half turn about z; the samples are not.
+  // The estimate is the exact symmetric pose 1 mm up: the true ADD-S (closest surface point) is
+  // at most 1 mm, but the closest *sample* to a turned sample is a chord away.
+  const std::vector<Eigen::Vector3f> samples = {{1, 0, 0}, {0, 1, 0}, {0.6f, 0.8f, 0}};
+  ObjectClass crate;
+  crate.diameter = 2.0;
+  crate.symmetry.discrete.push_back(rotZ(180));
+  const Eigen::Isometry3d est = rotZ(180, {0, 0, 0.001});
+  EXPECT_GT(addSError(samples, est, rotZ(0)), 0.5);  // sampled alone: between the samples
+  const PoseErrors e = poseErrors(crate, samples, est, rotZ(0));
+  EXPECT_NEAR(e.add, 0.001, 1e-6);
+  EXPECT_NEAR(e.add_s, 0.001, 1e-6);  // bounded by ADD against the symmetric truth
+  // Without the declared symmetry the sampled value stands.
+  ObjectClass plain;
+  plain.diameter = 2.0;
+  EXPECT_GT(poseErrors(plain, samples, est, rotZ(0)).add_s, 0.5);
+}
+
 TEST(PoseMetrics, ContinuousSymmetryOnlyCountsTheAxisTilt) {
   ObjectClass screwdriver;
   screwdriver.diameter = 0.25;

@@ -19,7 +19,7 @@ double addSError(const std::vector<Eigen::Vector3f>& model_points, const Eigen::
 
 struct PoseErrors {
   double add = 0.0;    // ADD, minimised over the symmetries (BOP's ADD for symmetric objects is ADD-S)
-  double add_s = 0.0;  // ADD-S
+  double add_s = 0.0;  // ADD-S: the sampled ADD-S, or `add` when that is smaller (see poseErrors)
   double translation = 0.0;   // |t_est - t_true| (m)
   double rotation_deg = 0.0;  // smallest angle between R_est and R_true S over the symmetries S
   bool correct = false;       // ADD-S < 10 % of the diameter (BOP recall criterion)
