@@ -80,12 +80,29 @@ struct PipelineOptions {
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
+  // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
+  // restarts from a detection, it is refined briefly from its rotation turned by each of the 24
+  // axis permutations of its box and goes on from the one the measurements support best.
+  // Detectors confuse box corners; simulated hypotheses with a few degrees of noise keep their
+  // own rotation. Tentative tracks (mostly false positives) are not searched: it costs ~20 ms.
+  bool search_orientations = true;
+  int max_orientation_searches = 1;  // per frame (each refines 24 candidates): others wait a frame
+  double orientation_search_interval_s = 2.0;  // a track is searched again no sooner than this
+  RefinerOptions orientation_refiner = orientationRefinerDefaults();
   bool run_presegmentation = true;
   bool compute_relations = true;
   relations::SceneRelationOptions relation_options;
   relations::HysteresisOptions relation_hysteresis;
   bool reparent = true;  // a track in / on another track becomes its child in the scene graph
   PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
+  static RefinerOptions orientationRefinerDefaults() {
+    RefinerOptions o;
+    o.rounds = 3;
+    o.ray_stride = 2;
+    o.full_resolution_last_round = false;
+    o.max_dist_last = 0.02f;
+    return o;
+  }
 };
 
 enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
@@ -154,11 +171,13 @@ class FramePipeline {
     TrackedObject out;
     PoseFilter filter;
     double absent_since = -1.0;  // < 0: no evidence of absence
+    double last_orientation_search = -1e9;
   };
   void predict(double stamp);
   void setTracksEnabled(bool enabled);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
   void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
+  void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
   std::string trackIdOf(NodeId node) const;       // "" when no track has that node
   void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);
@@ -171,6 +190,7 @@ class FramePipeline {
   std::map<std::string, MeshId> class_mesh_;
   std::map<std::string, int> class_count_;
   std::vector<Track> tracks_;
+  std::vector<std::string> needs_orientation_;  // track ids confirmed or restarted: search next
   double last_stamp_ = -1.0;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   NodeId map_node_ = kNoNode;

@@ -15,8 +15,10 @@ struct PoseFilterNoise {
   double angular_accel = 0.2;  // rad/s^2 (higher makes the turn rate follow pose noise)
   double initial_velocity = 0.2, initial_angular_velocity = 0.5;  // 1 sigma of the unknown start
   // While a track coasts (no measurement), its velocities decay with this time constant: an
-  // object put down stops; carrying on at the last velocity would fly it away in a second.
-  double coast_decay_s = 0.3;
+  // object put down stops; carrying on at the last velocity would fly it away in a second. Short,
+  // because a far object's velocity is mostly refinement jitter: with 0.3 s the screwdriver that
+  // the material box hides in the demo sank 6 cm into the bench before it stopped.
+  double coast_decay_s = 0.05;
 };
 
 class PoseFilter {
@@ -51,6 +53,10 @@ class PoseFilter {
   Mat12 P_;
   PoseFilterNoise noise_;
 };
+
+// Covariance of a pose measurement with independent noise: sigma_m (m) on each translation
+// axis, sigma_rad on each rotation axis ([t, R] order).
+PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad);
 
 // Rotation vector of R (log map) and its inverse.
 Eigen::Vector3d logSO3(const Eigen::Matrix3d& R);

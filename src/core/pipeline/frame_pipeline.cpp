@@ -13,12 +13,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad) {
-  PoseFilter::Mat6 C = PoseFilter::Mat6::Zero();
-  C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
-  return C;
-}
-
 }  // namespace
 
 const char* toString(TrackState s) {
@@ -139,6 +133,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
       t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
       t.out.T_map_object = in_map[h];
       scene_.setInstancePose(t.out.node, in_map[h]);
+      needs_orientation_.push_back(t.out.id);
     }
   }
 }
@@ -155,7 +150,9 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
       o.T_map_object = r.objects[k].T_world_object;  // the measurement, not the smoothed pose
       o.last_refined = stamp;
       t.absent_since = -1.0;
-      if (++o.hits >= options_.confirm_hits || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
+      if (++o.hits >= options_.confirm_hits && o.state == TrackState::kTentative)
+        needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
+      if (o.hits >= options_.confirm_hits || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
     } else {
       // Coast on the prediction. Absence evidence: the object should show points (rays reach
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
@@ -242,6 +239,10 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   });
   for (const RangeMeasurements& m : sets)
     if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model)) for_objects.push_back(m);
+  if (options_.search_orientations && !for_objects.empty())
+    searchOrientations(for_objects, frame.stamp);
+  else
+    needs_orientation_.clear();
   if (!tracks_.empty() && !for_objects.empty()) {
     std::vector<RefineTarget> targets;
     for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});

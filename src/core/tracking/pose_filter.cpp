@@ -108,4 +108,10 @@ PoseFilter::Mat6 PoseFilter::poseCovariance() const {
   return C;
 }
 
+PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad) {
+  PoseFilter::Mat6 C = PoseFilter::Mat6::Zero();
+  C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
+  return C;
+}
+
 }  // namespace sgt

@@ -1,0 +1,47 @@
+// Which orientation of a newly detected object do the measurements support?
+//
+// A keypoint detector that confuses the corners of an object's box gives PnP a rotation that is
+// off by one of the box's 24 axis permutations (the shipped model turns the material box by 90
+// deg, the multimeter by 180 deg), and refinement, a local search, keeps that error for good:
+// the rotated box explains part of the points well enough. Before a new track is refined, each
+// candidate orientation (the detection's own first) is refined briefly on its own, and the one
+// whose surface explains most of what the sensors see wins.
+#pragma once
+
+#include <vector>
+
+#include "scene_graph_tracker/registration/object_refiner.hpp"
+
+namespace sgt {
+
+// The 24 rotations that map the axis-aligned cube onto itself (signed permutation matrices with
+// determinant +1), identity first.
+std::vector<Eigen::Matrix3d> cuboidRotations();
+
+// T_world_object turned by each of `rotations` about the centre of `box` (object frame):
+// the detection's box stays where it was seen.
+std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_world_object, const Eigen::AlignedBox3f& box,
+                                                     const std::vector<Eigen::Matrix3d>& rotations);
+
+struct OrientationChoice {
+  std::size_t candidate = 0;  // index into the candidates; 0 when none fits
+  Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();  // refined
+  ObjectQuality quality;
+  double score = 0.0;  // inliers x inlier ratio of the winner
+  int candidates_fitted = 0;
+};
+
+// Refines `target` from every candidate pose with `refiner` (a few rounds suffice) against the
+// measurements, every other instance of `scene` in place (occlusion as in refinement), and
+// leaves the winner's refined pose in the scene. A candidate scores inliers x inlier ratio: the
+// points it explains, discounted by the share of its visible surface the measurements do not
+// confirm. Another candidate replaces the first (the detection's own) only when it scores more
+// than (1 + own_margin) times as much: on a nearly symmetric shape, or from far away, the scores
+// differ by noise and the detection keeps its say. When no candidate refines to kOk the first
+// stays, unrefined.
+OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
+                                    const std::vector<Eigen::Isometry3d>& candidates,
+                                    const std::vector<RangeMeasurements>& measurements, const RefinerOptions& refiner,
+                                    double own_margin = 0.05);
+
+}  // namespace sgt

@@ -1,0 +1,37 @@
+// FramePipeline: the orientation search for tracks (re)started from a detection this frame.
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include <algorithm>
+
+#include "scene_graph_tracker/registration/orientation_search.hpp"
+
+namespace sgt {
+
+void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp) {
+  static const std::vector<Eigen::Matrix3d> rotations = cuboidRotations();
+  int searched = 0;
+  std::vector<std::string> waiting;
+  for (const std::string& id : needs_orientation_) {
+    if (searched >= options_.max_orientation_searches) {
+      waiting.push_back(id);  // next frame
+      continue;
+    }
+    const auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.out.id == id; });
+    if (it == tracks_.end()) continue;
+    Track& t = *it;
+    if (stamp - t.last_orientation_search < options_.orientation_search_interval_s) continue;  // a lost track
+    t.last_orientation_search = stamp;                                                         // restarting again
+    const ObjectClass& c = catalog_->get(t.out.class_name);
+    ++searched;
+    const OrientationChoice choice =
+        chooseOrientation(scene_, {t.out.node, &c.symmetry}, orientationCandidates(t.out.T_map_object, c.box, rotations),
+                          sets, options_.orientation_refiner);
+    if (choice.candidates_fitted == 0) continue;  // nothing to judge by: the detection stands
+    t.out.T_map_object = choice.T_world_object;
+    t.filter = PoseFilter(choice.T_world_object, diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
+                          options_.motion);
+    graph_.setWorldTransform(t.out.node, choice.T_world_object);
+  }
+  needs_orientation_ = std::move(waiting);
+}
+
+}  // namespace sgt
