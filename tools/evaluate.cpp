@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
     PipelineOptions options;
     options.localize = !args.oracle_localization;
     options.compute_relations = args.relations;
+    // The keypoint detector mixes up box corners (a turned box); simulated hypotheses do not, and
+    // on nearly symmetric shapes the search can trade their right rotation for a flipped one.
+    options.search_orientations = detector != nullptr;
     FramePipeline pipeline(catalog, map, options);
     std::set<std::string> furniture;
     if (building) {  // the generated building's workbench top: the only furniture it describes

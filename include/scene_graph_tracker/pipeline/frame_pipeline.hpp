@@ -83,9 +83,11 @@ struct PipelineOptions {
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24
   // axis permutations of its box and goes on from the one the measurements support best.
-  // Detectors confuse box corners; simulated hypotheses with a few degrees of noise keep their
-  // own rotation. Tentative tracks (mostly false positives) are not searched: it costs ~20 ms.
-  bool search_orientations = true;
+  // For keypoint detectors, which confuse box corners (evaluate --detector and tracker.launch
+  // with detector:=true turn it on). Off by default: with simulated hypotheses (2 deg noise) it
+  // flipped the paper's nearly symmetric multimeter. Tentative tracks (mostly false positives)
+  // are not searched: a search costs ~20 ms.
+  bool search_orientations = false;
   int max_orientation_searches = 1;  // per frame (each refines 24 candidates): others wait a frame
   double orientation_search_interval_s = 2.0;  // a track is searched again no sooner than this
   RefinerOptions orientation_refiner = orientationRefinerDefaults();
