@@ -45,6 +45,7 @@ std::string FramePipeline::addTrack(const std::string& class_name, const Eigen::
   o.T_map_object = T_map_object;
   o.covariance = C;
   o.first_seen = o.last_hypothesis = stamp;
+  o.detections = options_.confirm_detections;  // by hand: trusted like a detected object
   scene_.addInstance(o.node, class_mesh_.at(class_name), T_map_object);
   scene_.commit();
   tracks_.push_back(std::move(t));
@@ -125,10 +126,12 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     if (match[h] < 0) {
       addTrack(hypotheses[h].class_name, in_map[h], stamp);
+      tracks_.back().out.detections = 1;
       continue;
     }
     Track& t = tracks_[match[h]];
     t.out.last_hypothesis = stamp;
+    ++t.out.detections;
     if (t.out.quality.status != RefineStatus::kOk) {  // lost its fit: start again from the detection
       t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
       t.out.T_map_object = in_map[h];
@@ -150,9 +153,10 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
       o.T_map_object = r.objects[k].T_world_object;  // the measurement, not the smoothed pose
       o.last_refined = stamp;
       t.absent_since = -1.0;
-      if (++o.hits >= options_.confirm_hits && o.state == TrackState::kTentative)
+      const bool confirmed = ++o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections;
+      if (confirmed && o.state == TrackState::kTentative)
         needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
-      if (o.hits >= options_.confirm_hits || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
+      if (confirmed || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
     } else {
       // Coast on the prediction. Absence evidence: the object should show points (rays reach
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
@@ -255,10 +259,19 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   if (options_.compute_relations) updateRelations(out, sets);
   out.times.relations_ms = msSince(t0);
 
-  // 4. Pre-segment every measurement against the map and the tracked objects.
+  // 4. Pre-segment every measurement against the map and the tracked objects. Tentative tracks
+  // (one detection, not yet confirmed) explain nothing: a false detection on an unknown thing
+  // would hide it, and a real new object is confirmed within a few frames.
   t0 = Clock::now();
-  if (options_.run_presegmentation)
+  if (options_.run_presegmentation) {
+    std::vector<NodeId> hidden;
+    for (const Track& t : tracks_)
+      if (t.out.state == TrackState::kTentative) hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
+    if (!hidden.empty()) scene_.commit();
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
+    for (NodeId n : hidden) scene_.setInstanceEnabled(n, true);
+    if (!hidden.empty()) scene_.commit();
+  }
   out.times.presegment_ms = msSince(t0);
 
   for (const Track& t : tracks_) {
