@@ -1,7 +1,6 @@
-// The orientation search against ground truth: the relay and the KLT detected with their box
-// axes mixed up, a camera 1 m away, depth noise as the simulator's. (The closed material box and
-// the multimeter look nearly the same upside down or turned by 180 deg: the search keeps the
-// detection's own rotation for them unless another explains the depth clearly better.)
+// The orientation search against ground truth: objects detected with their box axes mixed up, a
+// camera 1 m away, depth noise as the simulator's, the upright prior on. (The multimeter looks
+// nearly the same turned by 180 deg about z: not tested; the material box only up to that turn.)
 #include <gtest/gtest.h>
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
@@ -58,19 +57,30 @@ TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
   Eigen::Isometry3d detected = orientationCandidates(truth, c.box, rotations)[turn];
   detected.translation() += Eigen::Vector3d(0.01, -0.005, 0.0);
   const RefinerOptions refiner = PipelineOptions::orientationRefinerDefaults();
+  OrientationPrior prior;
+  prior.world_up = Eigen::Vector3d::UnitZ();
   const OrientationChoice choice = chooseOrientation(scene, {node, &c.symmetry}, orientationCandidates(detected, c.box, rotations),
-                                                     {m}, refiner);
+                                                     {m}, refiner, prior);
   EXPECT_GT(choice.candidates_fitted, 0);
   const PoseErrors e = poseErrors(c, sampleSurface(*c.mesh, 500, 1).points, choice.T_world_object, truth);
-  EXPECT_LT(e.rotation_deg, 10.0) << "candidate " << choice.candidate;  // three short rounds: the tracker goes on
-  EXPECT_LT(e.add_s, 0.005);
+  // Upright as it stands, whatever the turn (three short rounds: the tracker refines on).
+  const double up = choice.T_world_object.linear().col(2).dot(truth.linear().col(2));
+  EXPECT_GT(up, std::cos(10.0 * M_PI / 180.0)) << "candidate " << choice.candidate;
+  if (std::string(class_name) == "materialbox") {
+    // A half turn about its vertical axis moves only the 3 cm latch and the lid grip: depth at
+    // 1 m cannot tell it, and ADD-S between the two is ~7 mm.
+    EXPECT_LT(e.add_s, 0.008);
+  } else {
+    EXPECT_LT(e.rotation_deg, 10.0) << "candidate " << choice.candidate;
+    EXPECT_LT(e.add_s, 0.005);
+  }
   EXPECT_TRUE(scene.instancePose(node).isApprox(choice.T_world_object)) << "the winner is left in the scene";
 }
 
 // Identity (the detection is right), quarter turns about each axis, and a half turn about the
 // long axis (upside down).
 INSTANTIATE_TEST_SUITE_P(Turns, MixedUpAxes,
-                         ::testing::Combine(::testing::Values("relay", "klt"), ::testing::Values(0, 1, 5, 9, 14, 20)));
+                         ::testing::Combine(::testing::Values("relay", "klt", "materialbox"), ::testing::Values(0, 1, 5, 9, 14, 20)));
 
 }  // namespace
 }  // namespace sgt

@@ -8,6 +8,7 @@
 // whose surface explains most of what the sensors see wins.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "scene_graph_tracker/registration/object_refiner.hpp"
@@ -39,9 +40,17 @@ struct OrientationChoice {
 // than (1 + own_margin) times as much: on a nearly symmetric shape, or from far away, the scores
 // differ by noise and the detection keeps its say. When no candidate refines to kOk the first
 // stays, unrefined.
+// With `world_up` set, a candidate whose object z axis points up gains up to upright_bonus of
+// its score (objects rest as their meshes are modelled, z up): a closed box upside down explains
+// the depth about as well as upright, and the detector's PnP often gives it upside down.
+struct OrientationPrior {
+  double own_margin = 0.05;
+  std::optional<Eigen::Vector3d> world_up;
+  double upright_bonus = 0.2;
+};
 OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
                                     const std::vector<Eigen::Isometry3d>& candidates,
                                     const std::vector<RangeMeasurements>& measurements, const RefinerOptions& refiner,
-                                    double own_margin = 0.05);
+                                    const OrientationPrior& prior = {});
 
 }  // namespace sgt

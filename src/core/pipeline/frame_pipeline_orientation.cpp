@@ -8,6 +8,8 @@ namespace sgt {
 
 void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp) {
   static const std::vector<Eigen::Matrix3d> rotations = cuboidRotations();
+  OrientationPrior prior;
+  prior.world_up = Eigen::Vector3d::UnitZ();  // the map's z (REP-103)
   int searched = 0;
   std::vector<std::string> waiting;
   for (const std::string& id : needs_orientation_) {
@@ -24,7 +26,7 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     ++searched;
     const OrientationChoice choice =
         chooseOrientation(scene_, {t.out.node, &c.symmetry}, orientationCandidates(t.out.T_map_object, c.box, rotations),
-                          sets, options_.orientation_refiner);
+                          sets, options_.orientation_refiner, prior);
     if (choice.candidates_fitted == 0) continue;  // nothing to judge by: the detection stands
     t.out.T_map_object = choice.T_world_object;
     t.filter = PoseFilter(choice.T_world_object, diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),

@@ -34,7 +34,7 @@ std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_
 OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
                                     const std::vector<Eigen::Isometry3d>& candidates,
                                     const std::vector<RangeMeasurements>& measurements, const RefinerOptions& refiner,
-                                    double own_margin) {
+                                    const OrientationPrior& prior) {
   if (candidates.empty()) throw std::invalid_argument("chooseOrientation: no candidates");
   OrientationChoice best;
   best.T_world_object = candidates.front();
@@ -50,7 +50,9 @@ OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& tar
     // wins (an upside-down box explains nearly the same pixels, a few mm worse).
     const double t = refiner.max_dist_last, fit = std::max(0.0, 1.0 - e.quality.rmse * e.quality.rmse / (t * t));
     double score = e.quality.inliers * e.quality.inlier_ratio * fit;
-    if (k > 0) score /= 1.0 + own_margin;  // the detection's own orientation wins ties
+    if (k > 0) score /= 1.0 + prior.own_margin;  // the detection's own orientation wins ties
+    if (prior.world_up)
+      score *= 1.0 + prior.upright_bonus * std::max(0.0, e.T_world_object.linear().col(2).dot(*prior.world_up));
     if (score > best.score) best.candidate = k, best.T_world_object = e.T_world_object, best.quality = e.quality, best.score = score;
   }
   if (best.score < 0.0) best.score = 0.0;
