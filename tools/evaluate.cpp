@@ -65,6 +65,19 @@ double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
 }
 
+// Whether an object's centre projects into the frame's depth image (the camera at its true pose:
+// T_odom_camera of the depth set moved by the true map -> odom).
+bool inView(const sgt::PipelineFrame& frame, const Eigen::Isometry3d& T_map_base_true, const Eigen::Isometry3d& T_map_object) {
+  for (const sgt::RangeMeasurements& m : frame.measurements) {
+    const auto* cam = std::get_if<sgt::PinholeModel>(&m.model);
+    if (!cam) continue;
+    const Eigen::Isometry3d T_map_camera = T_map_base_true * frame.T_odom_base.inverse() * m.T_world_sensor;
+    const auto px = cam->project(T_map_camera.inverse() * T_map_object.translation());
+    if (px && px->x() >= 0 && px->y() >= 0 && px->x() < cam->width && px->y() < cam->height) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -168,7 +181,7 @@ int main(int argc, char** argv) {
             e = poseErrors(catalog->get(t.class_name), model_points[t.class_name], r.objects[best].T_map_object,
                            t.T_map_object);
           }
-          report.addObject(r.stamp, t.id, t.class_name, track, e);
+          report.addObject(r.stamp, t.id, t.class_name, track, e, !gt.T_map_base || inView(bf.frame, *gt.T_map_base, t.T_map_object));
         }
         if (scenario && !scenario->relations.empty())
           report.addRelations(scoreRelations(r.stamp - scenario->start_time, scenario->relations, r.relations,

@@ -27,6 +27,8 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   r.addObject(1, "klt_1", "klt", "klt_1", errors(0.004, 0.005, true));
   r.addObject(2, "klt_1", "klt", "", std::nullopt);                       // missed: counts against recall
   r.addObject(3, "klt_1", "klt", "klt_2", errors(0.030, 0.040, false));  // another track: a switch
+  r.addObject(4, "klt_1", "klt", "", std::nullopt, false);  // out of the camera's view: not scored
+  r.addObject(5, "klt_1", "klt", "klt_3", errors(0.5, 0.5, false), false);  // nor a switch
   UnknownLabelCounts c;
   c.tp = 90, c.fp = 10, c.fn = 10, c.lidar_valid = 1000, c.lidar_unknown = 140;
   r.addPresegmentation(c);
@@ -36,6 +38,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;    // (3 + 5 + 40) / 3
   EXPECT_TRUE(has(j, "\"recall_adds_10\": 0.5")) << j;  // 2 correct of 4 evaluated
   EXPECT_TRUE(has(j, "\"missed\": 1"));
+  EXPECT_TRUE(has(j, "\"out_of_view\": 2"));
   EXPECT_TRUE(has(j, "\"identity_switches\": 1"));
   EXPECT_TRUE(has(j, "\"translation_error_mean_mm\": 4"));  // localization: 4 mm every frame
   EXPECT_TRUE(has(j, "\"reduction\": 0.86"));
@@ -45,7 +48,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   for (const char* key : {"\"objects\"", "\"rotation_error_mean_deg\"", "\"per_object\"", "\"localization\"",
                           "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
     EXPECT_TRUE(has(j, key)) << key;
-  EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 |"));
+  EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 | 2 |"));
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
 }
 

@@ -24,9 +24,12 @@ class EvaluationReport {
  public:
   void addFrame(double stamp, const StageTimes& times);
   // One ground-truth object in one frame: the track matched to it and its errors, or nullopt when
-  // the pipeline had no estimate. A change of the matched track id is an identity switch.
+  // the pipeline had no estimate. A change of the matched track id is an identity switch. An
+  // object outside the camera's view (`in_view` false: its centre does not project into the
+  // image) is counted as out_of_view and not scored: nothing can see it move (the demo's relay
+  // is picked up while the robot has turned away). Occluded objects in view are scored.
   void addObject(double stamp, const std::string& truth_id, const std::string& class_name,
-                 const std::string& track_id, const std::optional<PoseErrors>& errors);
+                 const std::string& track_id, const std::optional<PoseErrors>& errors, bool in_view = true);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
   // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the scenario.
@@ -42,6 +45,7 @@ class EvaluationReport {
     double stamp;
     std::string id, class_name;
     std::optional<PoseErrors> e;
+    bool in_view = true;
   };
   struct FrameRow {
     double stamp;

@@ -32,8 +32,12 @@ std::string num(double x) {
 
 struct ObjectStats {
   std::vector<double> add_s, add, t, r;
-  std::size_t evaluated = 0, correct = 0, missed = 0;
-  void add_row(const std::optional<PoseErrors>& e) {
+  std::size_t evaluated = 0, correct = 0, missed = 0, out_of_view = 0;
+  void add_row(const std::optional<PoseErrors>& e, bool in_view) {
+    if (!in_view) {
+      ++out_of_view;
+      return;
+    }
     ++evaluated;
     if (!e) {
       ++missed;
@@ -48,6 +52,7 @@ struct ObjectStats {
     std::ostringstream o;
     o << indent << "\"evaluated\": " << evaluated << ",\n"
       << indent << "\"missed\": " << missed << ",\n"
+      << indent << "\"out_of_view\": " << out_of_view << ",\n"
       << indent << "\"add_s_mean_mm\": " << num(mean(add_s)) << ",\n"
       << indent << "\"add_mean_mm\": " << num(mean(add)) << ",\n"
       << indent << "\"recall_adds_10\": " << num(recall()) << ",\n"
@@ -62,8 +67,9 @@ struct ObjectStats {
 void EvaluationReport::addFrame(double stamp, const StageTimes& times) { frames_.push_back({stamp, times, {}, {}}); }
 
 void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls, const std::string& track,
-                                 const std::optional<PoseErrors>& e) {
-  objects_.push_back({stamp, id, cls, e});
+                                 const std::optional<PoseErrors>& e, bool in_view) {
+  objects_.push_back({stamp, id, cls, e, in_view});
+  if (!in_view) return;
   if (track.empty()) return;
   std::string& last = last_track_[id];
   if (!last.empty() && last != track) ++switches_[id];
@@ -92,7 +98,7 @@ std::string EvaluationReport::json() const {
   ObjectStats all;
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
-  for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
+  for (const ObjectRow& r : objects_) all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
   std::vector<double> lt, lr, total, loc, refine, preseg, detect, relations;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
@@ -144,14 +150,14 @@ std::string EvaluationReport::markdown() const {
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
   ObjectStats all;
-  for (const ObjectRow& r : objects_) all.add_row(r.e), per[r.id].add_row(r.e), cls[r.id] = r.class_name;
+  for (const ObjectRow& r : objects_) all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
   std::ostringstream o;
   o << std::fixed << std::setprecision(2);
-  o << "| object | class | frames | missed | ADD-S mm | ADD mm | t mm | R deg | recall ADD-S<0.1d |\n"
-    << "|---|---|---|---|---|---|---|---|---|\n";
+  o << "| object | class | frames | missed | out of view | ADD-S mm | ADD mm | t mm | R deg | recall ADD-S<0.1d |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|\n";
   const auto row = [&](const std::string& id, const std::string& c, const ObjectStats& s) {
-    o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | " << mean(s.add_s) << " | "
-      << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | " << s.recall() << " |\n";
+    o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | " << s.out_of_view << " | "
+      << mean(s.add_s) << " | " << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | " << s.recall() << " |\n";
   };
   for (const auto& [id, s] : per) row(id, cls[id], s);
   row("**all**", "", all);
