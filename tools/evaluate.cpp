@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
       reader.setReadRgb(true);
     }
     std::size_t frames_without_rgb = 0;
+    std::set<std::string> classes_seen;  // classes the pipeline has had a track of
     PipelineOptions options;
     options.localize = !args.oracle_localization;
     options.compute_relations = args.relations;
@@ -154,22 +155,22 @@ int main(int argc, char** argv) {
         // Each true object against the nearest estimate of its class (each estimate used once)
         // within a gate of the object's diameter (at least 10 cm), as CLEAR-MOT matches: a track
         // farther away is no estimate of this object (a miss, and no identity switch). Counted
-        // from the first frame the pipeline knows an object of that class.
+        // from the first frame the pipeline has a track of that class (later frames without one
+        // are misses).
         std::vector<char> used(r.objects.size(), 0);
         std::map<std::string, std::string> track_to_object;
         for (const auto& t : gt.objects) {
           if (!catalog->contains(t.class_name)) continue;
-          bool class_known = false;
           std::size_t best = r.objects.size();
           double best_d = 1e9;
           for (std::size_t k = 0; k < r.objects.size(); ++k) {
             if (r.objects[k].class_name != t.class_name) continue;
-            class_known = true;
+            classes_seen.insert(t.class_name);
             const double d = (r.objects[k].T_map_object.translation() - t.T_map_object.translation()).norm();
             const double gate = std::max(0.1, catalog->get(t.class_name).diameter);
             if (!used[k] && d < best_d && d < gate) best_d = d, best = k;
           }
-          if (!class_known) continue;
+          if (!classes_seen.count(t.class_name)) continue;  // before the first track of its class
           std::optional<PoseErrors> e;
           std::string track;
           if (best < r.objects.size()) {

@@ -83,6 +83,7 @@ struct PipelineOptions {
   double remove_tentative_after_s = 0.3;
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
+  int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24

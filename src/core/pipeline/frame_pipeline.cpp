@@ -149,8 +149,15 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
     TrackedObject& o = t.out;
     o.quality = r.objects[k].quality;
     if (o.quality.status == RefineStatus::kOk) {
-      t.filter.update(r.objects[k].T_world_object, C, &catalog_->get(o.class_name).symmetry);
-      o.T_map_object = r.objects[k].T_world_object;  // the measurement, not the smoothed pose
+      // A fit from few points (a far or mostly hidden object) is a weaker measurement: its
+      // covariance grows as 1 / inliers below well_seen_points, and the track reports the
+      // filtered pose rather than that frame's fit (the screwdriver at 2.5 m: ~40 inliers, fits
+      // jumping by 1-2 cm). Not for a child: its filter does not follow its parent's motion.
+      const bool child = graph_.node(o.node).parent != kWorldNode;
+      const double weak =
+          child ? 1.0 : std::max(1.0, static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers));
+      t.filter.update(r.objects[k].T_world_object, C * weak, &catalog_->get(o.class_name).symmetry);
+      o.T_map_object = weak > 1.0 ? t.filter.pose() : r.objects[k].T_world_object;
       o.last_refined = stamp;
       t.absent_since = -1.0;
       const bool confirmed = ++o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections;
