@@ -1,7 +1,7 @@
-// FramePipeline: the orientation search for tracks (re)started from a detection this frame.
-#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+// FramePipeline: the orientation search for tracks just confirmed or restarted from a detection.
 #include <algorithm>
 
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/registration/orientation_search.hpp"
 
 namespace sgt {
