@@ -3,9 +3,9 @@
 // A keypoint detector that confuses the corners of an object's box gives PnP a rotation that is
 // off by one of the box's 24 axis permutations (the shipped model turns the material box by 90
 // deg, the multimeter by 180 deg), and refinement, a local search, keeps that error for good:
-// the rotated box explains part of the points well enough. Before a new track is refined, each
-// candidate orientation (the detection's own first) is refined briefly on its own, and the one
-// whose surface explains most of what the sensors see wins.
+// the rotated box explains part of the points well enough. When a track is confirmed (or a lost
+// one restarts from a detection), each candidate orientation (its current one first) is refined
+// briefly on its own, and the one whose surface explains most of what the sensors see wins.
 #pragma once
 
 #include <optional>
@@ -28,15 +28,15 @@ struct OrientationChoice {
   std::size_t candidate = 0;  // index into the candidates; 0 when none fits
   Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();  // refined
   ObjectQuality quality;
-  double score = 0.0;  // inliers x inlier ratio of the winner
+  double score = 0.0;  // the winner's score (see chooseOrientation)
   int candidates_fitted = 0;
 };
 
 // Refines `target` from every candidate pose with `refiner` (a few rounds suffice) against the
 // measurements, every other instance of `scene` in place (occlusion as in refinement), and
-// leaves the winner's refined pose in the scene. A candidate scores inliers x inlier ratio: the
-// points it explains, discounted by the share of its visible surface the measurements do not
-// confirm. Another candidate replaces the first (the detection's own) only when it scores more
+// leaves the winner's refined pose in the scene. A candidate scores inliers x inlier ratio x
+// (1 - (rmse / max_dist_last)^2): the points it explains, discounted by the share of its visible
+// surface the measurements do not confirm and by how loosely they fit (MSAC). Another candidate replaces the first (the detection's own) only when it scores more
 // than (1 + own_margin) times as much: on a nearly symmetric shape, or from far away, the scores
 // differ by noise and the detection keeps its say. When no candidate refines to kOk the first
 // stays, unrefined.

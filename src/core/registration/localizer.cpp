@@ -1,10 +1,10 @@
 #include "scene_graph_tracker/registration/localizer.hpp"
 
-#include "scene_graph_tracker/geometry/rigid.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "scene_graph_tracker/geometry/rigid.hpp"
 
 namespace sgt {
 

@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "scene_graph_tracker/geometry/rigid.hpp"
+
 namespace sgt {
 
 void NodeGroups::set(NodeId node, int group) {
@@ -160,8 +162,7 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const 
   }
   out.T.linear() = R.cast<double>();
   out.T.translation() = t.cast<double>();
-  // Re-orthonormalise the float accumulation.
-  out.T.linear() = Eigen::Quaterniond(out.T.linear()).normalized().toRotationMatrix();
+  out.T = rigid(out.T);  // re-orthonormalise the float accumulation
   return out;
 }
 
