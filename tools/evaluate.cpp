@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
       reader.setReadRgb(true);
     }
     std::size_t frames_without_rgb = 0;
-    std::set<std::string> classes_seen;  // classes the pipeline has had a track of
+    std::set<std::string> detected;  // true objects a hypothesis has found (scored from then on)
     PipelineOptions options;
     options.localize = !args.oracle_localization;
     options.compute_relations = args.relations;
@@ -154,9 +154,18 @@ int main(int argc, char** argv) {
                                  angleDeg(r.T_map_base.linear(), gt.T_map_base->linear()));
         // Each true object against the nearest estimate of its class (each estimate used once)
         // within a gate of the object's diameter (at least 10 cm), as CLEAR-MOT matches: a track
-        // farther away is no estimate of this object (a miss, and no identity switch). Counted
-        // from the first frame the pipeline has a track of that class (later frames without one
-        // are misses).
+        // farther away is no estimate of this object (a miss, and no identity switch). An object is
+        // scored from the first frame a hypothesis of its class (simulated, or the detector's with
+        // --detector) lies within that gate of it: before, the tracker has nothing to start from
+        // (the simulated detector misses the screwdriver at 2.8 m). Later frames without an
+        // estimate are misses, hidden or not.
+        const Eigen::Isometry3d T_map_base = gt.T_map_base ? *gt.T_map_base : r.T_map_base;
+        for (const PoseHypothesis& h : bf.frame.hypotheses)
+          for (const auto& t : gt.objects)
+            if (t.class_name == h.class_name && catalog->contains(t.class_name) &&
+                ((T_map_base * h.T_base_object).translation() - t.T_map_object.translation()).norm() <
+                    std::max(0.1, catalog->get(t.class_name).diameter))
+              detected.insert(t.id);
         std::vector<char> used(r.objects.size(), 0);
         std::map<std::string, std::string> track_to_object;
         for (const auto& t : gt.objects) {
@@ -165,12 +174,11 @@ int main(int argc, char** argv) {
           double best_d = 1e9;
           for (std::size_t k = 0; k < r.objects.size(); ++k) {
             if (r.objects[k].class_name != t.class_name) continue;
-            classes_seen.insert(t.class_name);
             const double d = (r.objects[k].T_map_object.translation() - t.T_map_object.translation()).norm();
             const double gate = std::max(0.1, catalog->get(t.class_name).diameter);
             if (!used[k] && d < best_d && d < gate) best_d = d, best = k;
           }
-          if (!classes_seen.count(t.class_name)) continue;  // before the first track of its class
+          if (!detected.count(t.id)) continue;  // before its first hypothesis: nothing to track yet
           std::optional<PoseErrors> e;
           std::string track;
           if (best < r.objects.size()) {

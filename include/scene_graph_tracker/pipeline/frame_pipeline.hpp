@@ -84,6 +84,19 @@ struct PipelineOptions {
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
   int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
+  // Depth noise grows with range squared: a fit of an object farther than this from the sensor
+  // counts as a weaker measurement, its covariance scaled by (range / far_fit_from_m)^4. At 2.8 m
+  // the screwdriver's fits scatter by +-2 cm (depth sigma 12 mm); without it the filter followed
+  // that scatter and its velocity carried the track 3 cm up when the object was hidden.
+  double far_fit_from_m = 1.0;
+  // Evidence of absence needs most of a confirmed object in view: when other tracked objects
+  // cover more than this fraction of the rays that would reach it without them, the few rays
+  // left (which graze the occluder and miss a track only a little off) are no evidence and the
+  // track coasts.
+  double max_hidden_fraction_for_absence = 0.5;
+  // A lost track ignores fits farther than this from where it was lost until a hypothesis
+  // restarts it (associate(): reacquire_distance), and takes no evidence of absence from them.
+  double lost_track_max_jump_m = 0.03;
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24
@@ -184,7 +197,15 @@ class FramePipeline {
   void predict(double stamp);
   void setTracksEnabled(bool enabled);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
-  void updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped);
+  void updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets, double stamp,
+                    std::vector<std::string>& dropped);
+  // Whether the measurements show track k missing at its current pose in the scene (not where a
+  // failed refinement drifted to): of the rays that reach its model, enough (min_points) and
+  // most of those that would reach it without the other tracks (max_hidden_fraction_for_absence)
+  // find no surface there (inlier ratio below the refiner's). frame_pipeline_visibility.cpp.
+  bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
+  // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
+  double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
   std::string trackIdOf(NodeId node) const;       // "" when no track has that node

@@ -141,21 +141,28 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
   }
 }
 
-void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vector<std::string>& dropped) {
+void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets, double stamp,
+                                 std::vector<std::string>& dropped) {
   const auto C = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
   const auto C_follow = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  std::vector<std::size_t> coasting;     // confirmed tracks without a fit this frame
   for (std::size_t k : parentsFirst()) {  // a coasting child follows its parent's new pose
     Track& t = tracks_[k];
     TrackedObject& o = t.out;
     o.quality = r.objects[k].quality;
-    if (o.quality.status == RefineStatus::kOk) {
-      // A fit from few points (a far or mostly hidden object) is a weaker measurement: its
-      // covariance grows as 1 / inliers below well_seen_points, and the track reports the
-      // filtered pose rather than that frame's fit (the screwdriver at 2.5 m: ~40 inliers, fits
-      // jumping by 1-2 cm). Not for a child: its filter does not follow its parent's motion.
+    // A lost track (hidden, or its fits failed) stays where it was lost unless a detection
+    // restarts it: refinement alone moving it far means it fitted something else (in the demo,
+    // the edge of the box hiding the screwdriver, 10 cm away).
+    const bool jumped = o.quality.status == RefineStatus::kOk && o.state == TrackState::kLost && o.last_hypothesis < stamp &&
+                        (r.objects[k].T_world_object.translation() - o.T_map_object.translation()).norm() >
+                            options_.lost_track_max_jump_m;
+    if (o.quality.status == RefineStatus::kOk && !jumped) {
+      // A fit from few points or from far away is a weaker measurement (fitWeakness), and the
+      // track reports the filtered pose rather than that frame's fit (the screwdriver at 2.5 m:
+      // ~40 inliers, fits jumping by 1-2 cm). Not for a child: its filter does not follow its
+      // parent's motion.
       const bool child = graph_.node(o.node).parent != kWorldNode;
-      const double weak =
-          child ? 1.0 : std::max(1.0, static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers));
+      const double weak = child ? 1.0 : fitWeakness(o, sets);
       t.filter.update(r.objects[k].T_world_object, C * weak, &catalog_->get(o.class_name).symmetry);
       o.T_map_object = weak > 1.0 ? t.filter.pose() : r.objects[k].T_world_object;
       o.last_refined = stamp;
@@ -165,26 +172,41 @@ void FramePipeline::updateTracks(const RefineResult& r, double stamp, std::vecto
         needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
       if (confirmed || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
     } else {
-      // Coast on the prediction. Absence evidence: the object should show points (rays reach
+      // Coast on the prediction. Evidence of absence: the object should show points (rays reach
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
+      // A child (in / on another track) is hidden by its parent more than the rays know (a relay
+      // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
       const bool child = graph_.node(o.node).parent != kWorldNode;
       if (child) t.filter.update(graph_.worldTransform(o.node), C_follow, &catalog_->get(o.class_name).symmetry);
       o.T_map_object = child ? graph_.worldTransform(o.node) : t.filter.pose();
-      const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
-      // A degenerate fit (planar inliers) is no evidence of absence when the object shows what
-      // it should, but it is when those few inliers are all it shows: an object taken from a
-      // table leaves a handful of table points along its former bottom edge, in one plane.
-      // A child (in / on another track) is hidden by its parent more than the rays know (a relay
-      // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
-      const bool explained = o.quality.inlier_ratio >= options_.refiner.min_inlier_ratio;
-      const bool absent = should_show && (o.quality.status != RefineStatus::kDegenerate || !explained) && !child;
-      if (absent && t.absent_since < 0.0) t.absent_since = stamp;
-      if (!absent) t.absent_since = -1.0;
+      if (child) {
+        t.absent_since = -1.0;
+      } else if (o.state == TrackState::kTentative) {
+        // From the failed refinement's quality (quick, for false detections). A degenerate fit
+        // (planar inliers) is no evidence when the object shows what it should, but it is when
+        // those few inliers are all it shows: a thing taken from a table leaves a handful of
+        // table points along its former bottom edge, in one plane.
+        const bool should_show = o.quality.expected >= options_.refiner.alignment.min_points;
+        const bool explained = o.quality.inlier_ratio >= options_.refiner.min_inlier_ratio;
+        const bool absent = should_show && (o.quality.status != RefineStatus::kDegenerate || !explained);
+        if (!absent) t.absent_since = -1.0;
+        else if (t.absent_since < 0.0) t.absent_since = stamp;
+      } else {
+        coasting.push_back(k);  // judged below, at the pose it coasts at (seeAbsence)
+      }
       if (o.state == TrackState::kConfirmed) o.state = TrackState::kLost;
     }
     o.covariance = t.filter.poseCovariance();
     scene_.setInstancePose(o.node, o.T_map_object);
     graph_.setWorldTransform(o.node, o.T_map_object);
+  }
+  if (!coasting.empty()) {
+    scene_.commit();
+    for (std::size_t k : coasting) {
+      Track& t = tracks_[k];
+      if (!seesAbsence(k, sets)) t.absent_since = -1.0;
+      else if (t.absent_since < 0.0) t.absent_since = stamp;
+    }
   }
   for (std::size_t k = tracks_.size(); k-- > 0;) {
     Track& t = tracks_[k];
@@ -258,7 +280,7 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
     std::vector<RefineTarget> targets;
     for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});
     const RefineResult r = ObjectRefiner(options_.refiner).refine(scene_, targets, for_objects);
-    updateTracks(r, frame.stamp, out.dropped);
+    updateTracks(r, for_objects, frame.stamp, out.dropped);
     scene_.commit();
   }
   out.times.refine_ms = msSince(t0);

@@ -1,0 +1,64 @@
+// FramePipeline: how well a track is seen, for the weight of its fits and for evidence of absence.
+#include <algorithm>
+#include <cmath>
+
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/registration/ray_regions.hpp"
+
+namespace sgt {
+
+double FramePipeline::fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const {
+  const double few = static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers);
+  double range = 0.0;  // to the nearest sensor of the frame
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    const double d = (o.T_map_object.translation() - sets[s].T_world_sensor.translation()).norm();
+    range = s == 0 ? d : std::min(range, d);
+  }
+  const double far = options_.far_fit_from_m > 0.0 ? std::pow(range / options_.far_fit_from_m, 4) : 1.0;
+  return std::max(1.0, few) * std::max(1.0, far);
+}
+
+namespace {
+
+// Rays of the sets near `extent` (as refinement's last round casts them) with a valid
+// measurement that hit `node`: all of them, and those whose measurement lies within
+// `threshold` of the hit (with `limited`, rays stop at the measurement plus the threshold, so a
+// ray blocked by something closer does not count).
+struct RayCounts {
+  int reaching = 0, agreeing = 0;
+};
+RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& extent,
+                    const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro, bool limited) {
+  RayCounts c;
+  RayHits hits;
+  for (const RangeMeasurements& m : sets) {
+    const bool coarse = !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
+    const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin), coarse ? ro.ray_stride : 1);
+    scene.cast(*m.rays, m.T_world_sensor, hits, &tiles, limited ? CastLimit{&m.range, ro.max_dist_last} : CastLimit{});
+    tiles.forEachRay(*m.rays, [&](std::size_t i) {
+      if (hits.node[i] != node || !m.valid(i)) return;
+      ++c.reaching;
+      c.agreeing += std::abs(hits.range[i] - m.range[i]) < ro.max_dist_last;
+    });
+  }
+  return c;
+}
+
+}  // namespace
+
+bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets) {
+  const NodeId node = tracks_[k].out.node;
+  const ObjectExtent extent{scene_.instancePose(node), scene_.mesh(scene_.instanceMesh(node)).boundingBox()};
+  const RefinerOptions& ro = options_.refiner;
+  const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
+  if (seen.reaching < ro.alignment.min_points || seen.agreeing >= ro.min_inlier_ratio * seen.reaching) return false;
+  for (const Track& t : tracks_)
+    if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
+  scene_.commit();
+  const RayCounts alone = countRays(scene_, node, extent, sets, ro, false);
+  for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, true);
+  scene_.commit();
+  return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
+}
+
+}  // namespace sgt
