@@ -94,9 +94,11 @@ struct PipelineOptions {
   // left (which graze the occluder and miss a track only a little off) are no evidence and the
   // track coasts.
   double max_hidden_fraction_for_absence = 0.5;
-  // A lost track ignores fits farther than this from where it was lost until a hypothesis
-  // restarts it (associate(): reacquire_distance), and takes no evidence of absence from them.
+  // A lost track ignores fits farther than this from where it was lost, or explaining less than
+  // this fraction of the rays that reach it, until a hypothesis restarts it (associate():
+  // reacquire_distance); such fits are no evidence of absence either.
   double lost_track_max_jump_m = 0.03;
+  double lost_track_resume_inlier_ratio = 0.8;
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24

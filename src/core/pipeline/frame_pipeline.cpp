@@ -117,7 +117,12 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
     for (std::size_t k = 0; k < tracks_.size(); ++k) {
       const TrackedObject& o = tracks_[k].out;
       const double d = (o.T_map_object.translation() - in_map[h].translation()).norm();
-      const double gate = o.quality.status == RefineStatus::kOk ? options_.association_distance : options_.reacquire_distance;
+      // A track whose fit failed may have moved unseen: wider gate. Not a child: it is where
+      // its parent holds it (a relay hidden in a crate), and a detection of its class farther
+      // away is another object or a false one (in the demo, one pulled the relay out of the KLT).
+      const bool child = graph_.node(o.node).parent != kWorldNode;
+      const double gate = o.quality.status == RefineStatus::kOk || child ? options_.association_distance
+                                                                          : options_.reacquire_distance;
       cost(h, k) = o.class_name == hypotheses[h].class_name && d < gate ? d : forbidden;
     }
   }
@@ -151,11 +156,14 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     TrackedObject& o = t.out;
     o.quality = r.objects[k].quality;
     // A lost track (hidden, or its fits failed) stays where it was lost unless a detection
-    // restarts it: refinement alone moving it far means it fitted something else (in the demo,
-    // the edge of the box hiding the screwdriver, 10 cm away).
-    const bool jumped = o.quality.status == RefineStatus::kOk && o.state == TrackState::kLost && o.last_hypothesis < stamp &&
-                        (r.objects[k].T_world_object.translation() - o.T_map_object.translation()).norm() >
-                            options_.lost_track_max_jump_m;
+    // restarts it or it is seen whole again: a fit that moves it far fitted something else (in
+    // the demo, the edge of the box hiding the screwdriver, 10 cm away), and one that explains
+    // only part of its rays is a glimpse past the occluder, which pulled the screwdriver by 2 cm.
+    const bool resumes_unaided = o.state == TrackState::kLost && o.last_hypothesis < stamp;
+    const bool jumped = o.quality.status == RefineStatus::kOk && resumes_unaided &&
+                        ((r.objects[k].T_world_object.translation() - o.T_map_object.translation()).norm() >
+                             options_.lost_track_max_jump_m ||
+                         o.quality.inlier_ratio < options_.lost_track_resume_inlier_ratio);
     if (o.quality.status == RefineStatus::kOk && !jumped) {
       // A fit from few points or from far away is a weaker measurement (fitWeakness), and the
       // track reports the filtered pose rather than that frame's fit (the screwdriver at 2.5 m:
