@@ -18,6 +18,7 @@
 
 #include "command_line.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/ros/bag_frames.hpp"
@@ -110,8 +111,7 @@ int main(int argc, char** argv) {
       pipeline.setFurniture({relations::workbenchEntity(*building, sim::kWorkbenchName)});
       furniture.insert(sim::kWorkbenchName);
     }
-    std::map<std::string, std::vector<Eigen::Vector3f>> model_points;
-    for (const std::string& c : catalog->names()) model_points[c] = sampleSurface(*catalog->get(c).mesh, 500, 1).points;
+    const PoseScorer score(*catalog);  // ADD-S to each class's surface
 
     EvaluationReport report;
     ProgressBar progress("evaluate", reader.frameCount());
@@ -187,8 +187,7 @@ int main(int argc, char** argv) {
             // estimated within 10 cm: tracking failures are the objects.* figures' business.
             if (r.objects[best].state != TrackState::kTentative && best_d < 0.1) track_to_object[track] = t.id;
             used[best] = 1;
-            e = poseErrors(catalog->get(t.class_name), model_points[t.class_name], r.objects[best].T_map_object,
-                           t.T_map_object);
+            e = score(t.class_name, r.objects[best].T_map_object, t.T_map_object);
           }
           report.addObject(r.stamp, t.id, t.class_name, track, e, !gt.T_map_base || inView(bf.frame, *gt.T_map_base, t.T_map_object));
         }

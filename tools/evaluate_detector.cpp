@@ -112,8 +112,7 @@ int main(int argc, char** argv) {
   try {
     const ObjectCatalog catalog = loadObjectCatalog(args.catalog);
     detection::PoseDetector detector(args.model, catalog);
-    std::map<std::string, std::vector<Eigen::Vector3f>> model_points;
-    for (const std::string& c : catalog.names()) model_points[c] = sampleSurface(*catalog.get(c).mesh, 500, 1).points;
+    const PoseScorer score(catalog);  // ADD-S to each class's surface
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(fs::path(args.dataset) / "images"))
       if (e.path().extension() == ".png") names.push_back(e.path().stem().string());
@@ -157,8 +156,7 @@ int main(int argc, char** argv) {
           if (truth[best].keypoints[k]) s.kp_px.push_back((d.detection.keypoints[k].px - *truth[best].keypoints[k]).norm());
         if (d.pnp.ok() && catalog.contains(d.detection.class_name)) {
           ++s.pnp_ok;
-          const PoseErrors e = poseErrors(catalog.get(d.detection.class_name), model_points[d.detection.class_name],
-                                          d.pnp.T_camera_object, truth[best].T_camera_object);
+          const PoseErrors e = score(d.detection.class_name, d.pnp.T_camera_object, truth[best].T_camera_object);
           s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg), s.adds_mm.push_back(e.add_s * 1000);
         }
       }

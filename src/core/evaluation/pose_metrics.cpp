@@ -28,11 +28,31 @@ double addSError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3
   return sum / pts.size();
 }
 
+ModelSurface::ModelSurface(std::shared_ptr<const TriangleMesh> mesh) : mesh_(scene_.addMesh(std::move(mesh))) {}
+
+float ModelSurface::distance(const Eigen::Vector3f& p, float radius) const {
+  SurfacePoint closest;
+  return scene_.closestPoint(mesh_, p, radius, closest) ? closest.distance : radius;
+}
+
+double addSError(const std::vector<Eigen::Vector3f>& pts, const ModelSurface& surface, const Eigen::Isometry3d& T_est,
+                 const Eigen::Isometry3d& T_true) {
+  if (pts.empty()) return 0.0;
+  const Eigen::Isometry3f rel = (T_true.inverse() * T_est).cast<float>();
+  // Far enough for any point of a pose within a few diameters; beyond, the error is that large.
+  float radius = 0.0f;
+  for (const auto& p : pts) radius = std::max(radius, p.norm());
+  radius = 4.0f * radius + 0.01f;
+  double sum = 0.0;
+  for (const auto& p : pts) sum += surface.distance(rel * p, radius);
+  return sum / pts.size();
+}
+
 PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
-                      const Eigen::Isometry3d& T_true) {
+                      const Eigen::Isometry3d& T_true, const ModelSurface* surface) {
   PoseErrors e;
   e.translation = (T_est.translation() - T_true.translation()).norm();
-  e.add_s = addSError(pts, T_est, T_true);
+  e.add_s = surface ? addSError(pts, *surface, T_est, T_true) : addSError(pts, T_est, T_true);
   e.add = std::numeric_limits<double>::max();
   e.rotation_deg = std::numeric_limits<double>::max();
   for (const Eigen::Isometry3d& S : object.symmetry.sampled()) {
@@ -57,10 +77,23 @@ PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector
   // overestimates it by up to half their spacing (~1.5 cm on the KLT) when the estimate sits in a
   // symmetric pose, where rel * p falls between the samples. The truth under a symmetry S maps
   // every model point onto the surface, so ADD against T_true S is an upper bound as well: take
-  // the tighter of the two.
+  // the tighter of the two (a no-op when measured to the surface).
   e.add_s = std::min(e.add_s, e.add);
   e.correct = e.add_s < 0.1 * object.diameter;
   return e;
 }
 
+PoseScorer::PoseScorer(const ObjectCatalog& catalog, std::size_t points) : catalog_(catalog) {
+  for (const std::string& c : catalog.names()) {
+    points_[c] = sampleSurface(*catalog.get(c).mesh, points, 1).points;
+    surfaces_[c] = std::make_unique<ModelSurface>(catalog.get(c).mesh);
+  }
+}
+
+PoseErrors PoseScorer::operator()(const std::string& class_name, const Eigen::Isometry3d& T_est,
+                                  const Eigen::Isometry3d& T_true) const {
+  return poseErrors(catalog_.get(class_name), points_.at(class_name), T_est, T_true, surfaces_.at(class_name).get());
+}
+
 }  // namespace sgt
+
