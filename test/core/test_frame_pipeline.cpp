@@ -148,6 +148,51 @@ TEST(FramePipeline, OneFalseDetectionOnAnUnknownBoxIsNeitherConfirmedNorHidesIt)
   EXPECT_GE(worst_unknown, 95u) << "% of the carton's pixels labelled unknown in the worst frame";
 }
 
+// A detector that keeps detecting a KLT on a thin unknown thing (a post of 12 cm radius behind
+// the bench, like the detector demo's walking person): every detection associates with the track
+// at the detection, and refinement fits the crate to the post's front, but that fit explains only
+// about half the rays reaching the model (the crate's sides see past the post), so it is never
+// confirmed. (A second track, which refinement slid down onto the bench edge against the post,
+// explains 73 % there and is confirmed either way: this rule only judges fits.) Returns whether a
+// track within 10 cm of the detection was confirmed.
+bool falseDetectionsOnAPostConfirmed(double confirm_inlier_ratio) {
+  const auto bench = test::benchScene();
+  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera, T_base_lidar] = *bench;
+  RaycastScene& world = *world_ptr;
+  const Eigen::Vector3d feet = top + Eigen::Vector3d(-0.25, -0.75, -0.75);
+  world.addInstance(30, world.addMesh(std::make_shared<TriangleMesh>(makeCylinder(0.12f, 1.75f))),
+                    test::poseXyzYaw(feet + Eigen::Vector3d(0, 0, 0.875), 0.0));
+  world.commit();
+  const PinholeModel cam = PinholeModel::xtion();
+  auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  const SimulatedScan scan = simulate(world, *rays, T_map_base * T_base_camera);
+  PipelineOptions options;
+  options.localize = false;
+  options.confirm_inlier_ratio = confirm_inlier_ratio;
+  FramePipeline pipeline(catalog, map, options);
+  // The crate stuck in the post with its front face on the post's front, over the bench.
+  const Eigen::Isometry3d T_false = test::poseXyzYaw(feet + Eigen::Vector3d(0, 0.12 - 0.099, 1.0), 0.0);
+  bool confirmed = false;
+  for (int f = 0; f < 30; ++f) {
+    PipelineFrame frame;
+    frame.stamp = f / 30.0;
+    frame.T_odom_base = T_map_base;
+    frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_map_base * T_base_camera));
+    addDepthNoise(frame.measurements.back(), 0.0015, 700 + f);
+    frame.hypotheses.push_back({"klt", T_map_base.inverse() * T_false, 0.9});
+    for (const TrackedObject& o : pipeline.process(frame).objects)
+      confirmed |= o.class_name == "klt" && o.state != TrackState::kTentative &&
+                   (o.T_map_object.translation() - T_false.translation()).norm() < 0.1;
+  }
+  return confirmed;
+}
+
+TEST(FramePipeline, RepeatedFalseDetectionsOnAPostAreNotConfirmed) {
+  EXPECT_FALSE(falseDetectionsOnAPostConfirmed(PipelineOptions().confirm_inlier_ratio));
+  // Confirmation by detections and any fit (the rule before): confirmed.
+  EXPECT_TRUE(falseDetectionsOnAPostConfirmed(0.0)) << "the scene must make the crate fit the post (else no test)";
+}
+
 // A robot driving past the bench with drifting odometry: every LiDAR frame corrects map -> odom.
 // Composing `estimate * prior.inverse() * map_odom` with Isometry3d::inverse() (a transpose)
 // amplified any deviation from a rotation about threefold per correction, until the scans were

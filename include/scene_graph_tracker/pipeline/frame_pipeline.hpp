@@ -26,6 +26,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,7 @@ struct PipelineOptions {
   // confirmed a single false detection on an unknown box of about the right size, and the
   // confirmed track then explained the box's points (pre-segmentation recall 0.71 in the demo).
   int confirm_detections = 3;
+  double confirm_inlier_ratio = 0.55;  // ... and whose fits explain at least this fraction of their rays
   double remove_after_s = 1.0;         // evidence of absence for this long removes a track
   double remove_tentative_after_s = 0.3;
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
@@ -195,6 +197,10 @@ class FramePipeline {
     PoseFilter filter;
     double absent_since = -1.0;  // < 0: no evidence of absence
     double last_orientation_search = -1e9;
+    // Where a lost track coasted when a detection restarted it: the orientation search weighs it
+    // against the detection (a hidden object seldom moved; the detector's pose of a thin one is
+    // often centimetres off).
+    std::optional<Eigen::Isometry3d> before_restart;
   };
   void predict(double stamp);
   void setTracksEnabled(bool enabled);

@@ -138,6 +138,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
     t.out.last_hypothesis = stamp;
     ++t.out.detections;
     if (t.out.quality.status != RefineStatus::kOk) {  // lost its fit: start again from the detection
+      if (t.out.state == TrackState::kLost) t.before_restart = t.out.T_map_object;
       t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
       t.out.T_map_object = in_map[h];
       scene_.setInstancePose(t.out.node, in_map[h]);
@@ -175,7 +176,11 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
       o.T_map_object = weak > 1.0 ? t.filter.pose() : r.objects[k].T_world_object;
       o.last_refined = stamp;
       t.absent_since = -1.0;
-      const bool confirmed = ++o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections;
+      // A tentative track's fit counts towards confirmation only when it explains most of the
+      // rays that reach the model: a detection on something else (the walking person, in the
+      // detector demo) lets a model fit a patch of it, but then explains 35-50 % of its rays.
+      if (o.state != TrackState::kTentative || o.quality.inlier_ratio >= options_.confirm_inlier_ratio) ++o.hits;
+      const bool confirmed = o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections;
       if (confirmed && o.state == TrackState::kTentative)
         needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
       if (confirmed || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
@@ -280,10 +285,12 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   });
   for (const RangeMeasurements& m : sets)
     if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model)) for_objects.push_back(m);
-  if (options_.search_orientations && !for_objects.empty())
+  if (options_.search_orientations && !for_objects.empty()) {
     searchOrientations(for_objects, frame.stamp);
-  else
+  } else {
     needs_orientation_.clear();
+    for (Track& t : tracks_) t.before_restart.reset();
+  }
   if (!tracks_.empty() && !for_objects.empty()) {
     std::vector<RefineTarget> targets;
     for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});

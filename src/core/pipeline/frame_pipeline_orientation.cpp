@@ -1,5 +1,8 @@
-// FramePipeline: the orientation search for tracks just confirmed or restarted from a detection.
+// FramePipeline: the orientation search for tracks just confirmed or restarted from a detection
+// (a restarted track's pose before the restart competes too, first: the detection must beat it).
 #include <algorithm>
+#include <optional>
+#include <utility>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/registration/orientation_search.hpp"
@@ -20,13 +23,15 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     const auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.out.id == id; });
     if (it == tracks_.end()) continue;
     Track& t = *it;
+    const std::optional<Eigen::Isometry3d> before = std::exchange(t.before_restart, std::nullopt);
     if (stamp - t.last_orientation_search < options_.orientation_search_interval_s) continue;  // a lost track
     t.last_orientation_search = stamp;                                                         // restarting again
     const ObjectClass& c = catalog_->get(t.out.class_name);
     ++searched;
+    std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);
+    if (before) candidates.insert(candidates.begin(), *before);  // the incumbent
     const OrientationChoice choice =
-        chooseOrientation(scene_, {t.out.node, &c.symmetry}, orientationCandidates(t.out.T_map_object, c.box, rotations),
-                          sets, options_.orientation_refiner, prior);
+        chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
     if (choice.candidates_fitted == 0) continue;  // nothing to judge by: the detection stands
     t.out.T_map_object = choice.T_world_object;
     t.filter = PoseFilter(choice.T_world_object, diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
