@@ -104,32 +104,50 @@ TEST(FramePipeline, EmptyFramesKeepItRunning) {
   EXPECT_TRUE(pipeline.process(unknown_class).objects.empty());
 }
 
+// The bench with one unknown thing added (node 30), as the standing robot's camera sees it; a
+// frame of that view at 30 Hz with fresh depth noise.
+struct UnknownThingView {
+  std::unique_ptr<test::BenchScene> bench;
+  PinholeModel cam = PinholeModel::xtion();
+  std::shared_ptr<SensorRays> rays;
+  SimulatedScan scan;
+  static constexpr NodeId kThing = 30;
+  UnknownThingView(TriangleMesh thing, const Eigen::Isometry3d& T_map_thing) {
+    bench = test::benchScene();
+    bench->world->addInstance(kThing, bench->world->addMesh(std::make_shared<TriangleMesh>(std::move(thing))), T_map_thing);
+    bench->world->commit();
+    rays = std::make_shared<SensorRays>(makeRays(cam));
+    scan = simulate(*bench->world, *rays, bench->T_map_base * bench->T_base_camera);
+  }
+  PipelineFrame frame(int f, unsigned noise_seed) const {
+    PipelineFrame frame;
+    frame.stamp = f / 30.0;
+    frame.T_odom_base = bench->T_map_base;
+    const Eigen::Isometry3d T_camera = bench->T_map_base * bench->T_base_camera;
+    frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_camera));
+    addDepthNoise(frame.measurements.back(), 0.0015, noise_seed + f);
+    return frame;
+  }
+};
+
 // One false detection of a material box on an unknown carton of about its size (the demo's
 // cardboard box): refinement alone fits it well, but a track needs more than one detection to
 // be confirmed, so it never is and goes after tentative_timeout; a tentative track explains no
 // points, so the carton stays unknown in every frame.
 TEST(FramePipeline, OneFalseDetectionOnAnUnknownBoxIsNeitherConfirmedNorHidesIt) {
-  const auto bench = test::benchScene();
-  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera, T_base_lidar] = *bench;
-  RaycastScene& world = *world_ptr;
-  const NodeId carton = 30;
+  const Eigen::Vector3d top = test::benchScene()->top;
   const Eigen::Isometry3d T_carton = test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.045), 0.1);
-  world.addInstance(carton, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.17f, 0.125f, 0.09f}))), T_carton);
-  world.commit();
-  const PinholeModel cam = PinholeModel::xtion();
-  auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const SimulatedScan scan = simulate(world, *rays, T_map_base * T_base_camera);
+  const UnknownThingView view(makeBox({0.17f, 0.125f, 0.09f}), T_carton);
+  const NodeId carton = UnknownThingView::kThing;
+  const SimulatedScan& scan = view.scan;
+  const Eigen::Isometry3d& T_map_base = view.bench->T_map_base;
   PipelineOptions options;
   options.localize = false;
-  FramePipeline pipeline(catalog, map, options);
+  FramePipeline pipeline(view.bench->catalog, view.bench->map, options);
   std::size_t carton_pixels = 0, worst_unknown = ~std::size_t{0};
   bool confirmed = false, present_at_end = false;
   for (int f = 0; f < 45; ++f) {  // 1.5 s at 30 Hz
-    PipelineFrame frame;
-    frame.stamp = f / 30.0;
-    frame.T_odom_base = T_map_base;
-    frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_map_base * T_base_camera));
-    addDepthNoise(frame.measurements.back(), 0.0015, 400 + f);
+    PipelineFrame frame = view.frame(f, 400);
     if (f == 0) frame.hypotheses.push_back({"materialbox", T_map_base.inverse() * T_carton, 0.9});
     const PipelineResult r = pipeline.process(frame);
     present_at_end = false;
@@ -156,30 +174,18 @@ TEST(FramePipeline, OneFalseDetectionOnAnUnknownBoxIsNeitherConfirmedNorHidesIt)
 // explains 73 % there and is confirmed either way: this rule only judges fits.) Returns whether a
 // track within 10 cm of the detection was confirmed.
 bool falseDetectionsOnAPostConfirmed(double confirm_inlier_ratio) {
-  const auto bench = test::benchScene();
-  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera, T_base_lidar] = *bench;
-  RaycastScene& world = *world_ptr;
-  const Eigen::Vector3d feet = top + Eigen::Vector3d(-0.25, -0.75, -0.75);
-  world.addInstance(30, world.addMesh(std::make_shared<TriangleMesh>(makeCylinder(0.12f, 1.75f))),
-                    test::poseXyzYaw(feet + Eigen::Vector3d(0, 0, 0.875), 0.0));
-  world.commit();
-  const PinholeModel cam = PinholeModel::xtion();
-  auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const SimulatedScan scan = simulate(world, *rays, T_map_base * T_base_camera);
+  const Eigen::Vector3d feet = test::benchScene()->top + Eigen::Vector3d(-0.25, -0.75, -0.75);
+  const UnknownThingView view(makeCylinder(0.12f, 1.75f), test::poseXyzYaw(feet + Eigen::Vector3d(0, 0, 0.875), 0.0));
   PipelineOptions options;
   options.localize = false;
   options.confirm_inlier_ratio = confirm_inlier_ratio;
-  FramePipeline pipeline(catalog, map, options);
+  FramePipeline pipeline(view.bench->catalog, view.bench->map, options);
   // The crate stuck in the post with its front face on the post's front, over the bench.
   const Eigen::Isometry3d T_false = test::poseXyzYaw(feet + Eigen::Vector3d(0, 0.12 - 0.099, 1.0), 0.0);
   bool confirmed = false;
   for (int f = 0; f < 30; ++f) {
-    PipelineFrame frame;
-    frame.stamp = f / 30.0;
-    frame.T_odom_base = T_map_base;
-    frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_map_base * T_base_camera));
-    addDepthNoise(frame.measurements.back(), 0.0015, 700 + f);
-    frame.hypotheses.push_back({"klt", T_map_base.inverse() * T_false, 0.9});
+    PipelineFrame frame = view.frame(f, 700);
+    frame.hypotheses.push_back({"klt", view.bench->T_map_base.inverse() * T_false, 0.9});
     for (const TrackedObject& o : pipeline.process(frame).objects)
       confirmed |= o.class_name == "klt" && o.state != TrackState::kTentative &&
                    (o.T_map_object.translation() - T_false.translation()).norm() < 0.1;
