@@ -36,10 +36,44 @@ void DetectorNodelet::onInit() {
                info.input_height, info.names.size(), decode.score_threshold);
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
+  depth_max_offset_ = pnh.param("depth_max_offset", depth_max_offset_);
+  if (pnh.param("use_depth", true)) depth_sub_ = nh.subscribe("depth", 3, &DetectorNodelet::onDepth, this);
   image_sub_.subscribe(nh, "image", 2);
   info_sub_.subscribe(nh, "camera_info", 2);
   sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_, info_sub_);
   sync_->registerCallback(boost::bind(&DetectorNodelet::onImage, this, boost::placeholders::_1, boost::placeholders::_2));
+}
+
+void DetectorNodelet::warn(const std::string& text) {
+  if (warnings_.shouldLog(text)) NODELET_WARN("detector: %s", text.c_str());
+}
+
+void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
+  std::lock_guard<std::mutex> lock(depth_mutex_);
+  depth_images_.push_back(depth);
+  while (depth_images_.size() > 5) depth_images_.pop_front();
+}
+
+std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp, const PinholeModel& camera) {
+  if (!depth_sub_) return nullptr;
+  sensor_msgs::ImageConstPtr best;
+  {
+    std::lock_guard<std::mutex> lock(depth_mutex_);
+    for (const auto& d : depth_images_)
+      if (!best || std::abs((d->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec())) best = d;
+  }
+  if (!best || std::abs((best->header.stamp - stamp).toSec()) > depth_max_offset_) {
+    warn("no depth image on '" + depth_sub_.getTopic() + "' within " + std::to_string(depth_max_offset_) +
+         " s of the RGB image: distances from PnP alone (set use_depth false if there is no registered depth)");
+    return nullptr;
+  }
+  try {  // registered: the depth image has the RGB camera's size and intrinsics
+    return std::make_unique<RangeMeasurements>(fromDepthImage(camera, depth_rays_.rays(camera),
+                                                               depthFromImage(*best, camera), Eigen::Isometry3d::Identity()));
+  } catch (const std::exception& e) {
+    warn(std::string("depth image not used (it must be registered to the RGB image): ") + e.what());
+    return nullptr;
+  }
 }
 
 void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info) {
@@ -49,10 +83,10 @@ void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image, const sen
   try {
     const PinholeModel cam = toPinhole(*info);
     rgb = rgbFromImage(*image, cam);
-    detections = detector_->detect(rgb, cam);
+    const std::unique_ptr<RangeMeasurements> depth = registeredDepth(image->header.stamp, cam);
+    detections = detector_->detect(rgb, cam, depth.get());
   } catch (const std::exception& e) {
-    const std::string text = std::string("image skipped: ") + e.what();
-    if (warnings_.shouldLog(text)) NODELET_WARN("detector: %s", text.c_str());
+    warn(std::string("image skipped: ") + e.what());
     return;
   }
   scene_graph_tracker::PoseHypothesisArray out;

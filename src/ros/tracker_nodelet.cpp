@@ -141,11 +141,8 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
   };
   try {
     const PinholeModel cam = toPinhole(*info);
-    static thread_local std::shared_ptr<SensorRays> rays;
-    static thread_local PinholeModel rays_cam;
-    if (!rays || rays_cam.width != cam.width || rays_cam.height != cam.height || rays_cam.fx != cam.fx ||
-        rays_cam.fy != cam.fy || rays_cam.cx != cam.cx || rays_cam.cy != cam.cy)
-      rays = std::make_shared<SensorRays>(makeRays(cam)), rays_cam = cam;
+    static thread_local PinholeRayCache ray_cache;
+    const auto rays = ray_cache.rays(cam);
     frame.T_odom_base = lookup(odom_frame_, base_frame_, stamp);
     frame.measurements.push_back(fromDepthImage(cam, rays, depthFromImage(*depth, cam),
                                                 lookup(odom_frame_, depth->header.frame_id, stamp),

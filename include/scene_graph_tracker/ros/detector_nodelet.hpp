@@ -3,9 +3,14 @@
 // Subscribes: image (rgb8/bgr8/rgba8/bgra8/mono8) and camera_info, synchronised. Publishes:
 // ~pose_hypotheses (PoseHypothesisArray, poses in the image's frame, stamped like the image) —
 // what the tracker consumes — and ~debug_image (rgb8 with boxes, cuboids and keypoints) when
-// someone subscribes to it. Parameters: model (metadata YAML of the ONNX model), catalog,
-// mesh_dir, score_threshold, nms_iou, min_visibility, max_reprojection_px. Bad input is warned
-// about (throttled) and skipped; the nodelet keeps running.
+// someone subscribes to it. With `use_depth` (default true) it also subscribes to `depth` — a depth
+// image registered to the RGB image (same size and intrinsics, 32FC1 m or 16UC1 mm) — and each
+// accepted pose gets its distance from the depth image closest in time (within
+// `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
+// (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
+// nodelet warns. Parameters: model (metadata YAML of the ONNX model), catalog, mesh_dir,
+// score_threshold, nms_iou, min_visibility, max_reprojection_px, use_depth, depth_max_offset.
+// Bad input is warned about (throttled) and skipped; the nodelet keeps running.
 #pragma once
 
 #include <message_filters/subscriber.h>
@@ -16,6 +21,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
+#include <deque>
 #include <memory>
 #include <mutex>
 
@@ -31,6 +37,11 @@ class DetectorNodelet : public nodelet::Nodelet {
  private:
   using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
   void onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info);
+  void onDepth(const sensor_msgs::ImageConstPtr& depth);
+  // The buffered depth image closest to `stamp` within depth_max_offset_, as range measurements of
+  // `camera` (the RGB camera it is registered to); nullptr with a warning when there is none.
+  std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp, const PinholeModel& camera);
+  void warn(const std::string& text);
 
   std::unique_ptr<detection::PoseDetector> detector_;
   std::mutex mutex_;
@@ -39,6 +50,11 @@ class DetectorNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ::ros::Publisher hypotheses_pub_, debug_pub_;
+  ::ros::Subscriber depth_sub_;
+  std::mutex depth_mutex_;  // the depth buffer is filled by its own callback
+  std::deque<sensor_msgs::ImageConstPtr> depth_images_;
+  double depth_max_offset_ = 0.02;
+  PinholeRayCache depth_rays_;
 };
 
 }  // namespace sgt::ros

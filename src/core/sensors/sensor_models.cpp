@@ -30,6 +30,14 @@ SensorRays makeRays(const PinholeModel& m) {
   return rays;
 }
 
+std::shared_ptr<const SensorRays> PinholeRayCache::rays(const PinholeModel& m) {
+  const bool same = rays_ && m.width == model_.width && m.height == model_.height && m.fx == model_.fx &&
+                    m.fy == model_.fy && m.cx == model_.cx && m.cy == model_.cy && m.range_min == model_.range_min &&
+                    m.range_max == model_.range_max;
+  if (!same) rays_ = std::make_shared<const SensorRays>(makeRays(m)), model_ = m;
+  return rays_;
+}
+
 SensorRays makeRays(const SpinningLidarModel& m) {
   if (m.columns <= 0 || m.rings <= 0)
     throw std::invalid_argument("LiDAR model needs positive columns and rings (got " +
