@@ -178,7 +178,8 @@ int main(int argc, char** argv) {
             const double gate = std::max(0.1, catalog->get(t.class_name).diameter);
             if (!used[k] && d < best_d && d < gate) best_d = d, best = k;
           }
-          if (!detected.count(t.id)) continue;  // before its first hypothesis: nothing to track yet
+          if (best < r.objects.size()) used[best] = 1;  // its track, whether scored yet or not
+          if (!detected.count(t.id)) continue;           // before its first hypothesis: nothing to track yet
           std::optional<PoseErrors> e;
           std::string track;
           if (best < r.objects.size()) {
@@ -186,11 +187,13 @@ int main(int argc, char** argv) {
             // Relations are judged between objects in the scene graph (confirmed or lost tracks)
             // estimated within 10 cm: tracking failures are the objects.* figures' business.
             if (r.objects[best].state != TrackState::kTentative && best_d < 0.1) track_to_object[track] = t.id;
-            used[best] = 1;
             e = score(t.class_name, r.objects[best].T_map_object, t.T_map_object);
           }
           report.addObject(r.stamp, t.id, t.class_name, track, e, !gt.T_map_base || inView(bf.frame, *gt.T_map_base, t.T_map_object));
         }
+        for (std::size_t k = 0; k < r.objects.size(); ++k)
+          if (!used[k] && r.objects[k].state != TrackState::kTentative)
+            report.addFalsePositive(r.stamp, r.objects[k].id, r.objects[k].class_name);
         if (scenario && !scenario->relations.empty())
           report.addRelations(scoreRelations(r.stamp - scenario->start_time, scenario->relations, r.relations,
                                              track_to_object, furniture),

@@ -52,5 +52,23 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
 }
 
+TEST(EvaluationReport, FalsePositivesCountTrackFramesTracksAndClasses) {
+  EvaluationReport r;
+  r.addFrame(0, StageTimes{});
+  const std::string none = r.json();
+  EXPECT_TRUE(has(none, "\"false_positives\": 0,")) << none;
+  EXPECT_TRUE(has(none, "\"false_tracks\": 0,"));
+  EXPECT_FALSE(has(r.markdown(), "False positives"));
+  r.addFalsePositive(0, "relay_4", "relay");  // e.g. on the walking person, two frames
+  r.addFalsePositive(1, "relay_4", "relay");
+  r.addFalsePositive(1, "klt_2", "klt");  // a duplicate
+  const std::string j = r.json();
+  EXPECT_TRUE(has(j, "\"false_positives\": 3,")) << j;
+  EXPECT_TRUE(has(j, "\"false_tracks\": 2,")) << j;
+  EXPECT_TRUE(has(j, "\"false_positives_by_class\": {\"klt\": 1, \"relay\": 2}")) << j;
+  EXPECT_TRUE(has(r.markdown(), "3 track-frames of 1 klt track, 1 relay track.")) << r.markdown();
+  EXPECT_TRUE(has(r.timeseriesCsv(), "false_positive,1,klt_2,klt,"));
+}
+
 }  // namespace
 }  // namespace sgt

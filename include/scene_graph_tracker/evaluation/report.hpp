@@ -1,5 +1,6 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
-// report: report.json (keys documented in the README: frames, objects.*, localization.*,
+// report: report.json (keys documented in the README: frames, objects.* (with false positives),
+// localization.*,
 // presegmentation.*, relations.* (when relations were scored), timing.*), report.md (tables) and timeseries.csv (one row per frame and
 // object, read by scripts/plot_report.py).
 #pragma once
@@ -30,6 +31,10 @@ class EvaluationReport {
   // is picked up while the robot has turned away). Occluded objects in view are scored.
   void addObject(double stamp, const std::string& truth_id, const std::string& class_name,
                  const std::string& track_id, const std::optional<PoseErrors>& errors, bool in_view = true);
+  // A track in the scene graph (confirmed or lost) that no true object was matched to in this
+  // frame: a false positive in the CLEAR-MOT sense (a track on a distractor or a person, a
+  // duplicate, one far from its object).
+  void addFalsePositive(double stamp, const std::string& track_id, const std::string& class_name);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
   // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the scenario.
@@ -41,6 +46,7 @@ class EvaluationReport {
   std::string timeseriesCsv() const;
 
  private:
+  std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n" 
   struct ObjectRow {
     double stamp;
     std::string id, class_name;
@@ -54,6 +60,11 @@ class EvaluationReport {
   };
   std::vector<FrameRow> frames_;
   std::vector<ObjectRow> objects_;
+  struct FalsePositiveRow {
+    double stamp;
+    std::string track_id, class_name;
+  };
+  std::vector<FalsePositiveRow> false_positives_;
   UnknownLabelCounts labels_;
   RelationCounts relations_;
   std::size_t relation_frames_ = 0, declared_relations_ = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 namespace sgt {
@@ -76,6 +77,23 @@ void EvaluationReport::addObject(double stamp, const std::string& id, const std:
   last = track;
 }
 
+void EvaluationReport::addFalsePositive(double stamp, const std::string& track_id, const std::string& class_name) {
+  false_positives_.push_back({stamp, track_id, class_name});
+}
+
+std::string EvaluationReport::falsePositivesJson() const {
+  std::set<std::string> tracks;
+  std::map<std::string, std::size_t> by_class;
+  for (const FalsePositiveRow& f : false_positives_) tracks.insert(f.track_id), ++by_class[f.class_name];
+  std::ostringstream o;
+  o << ",\n    \"false_positives\": " << false_positives_.size() << ",\n    \"false_tracks\": " << tracks.size()
+    << ",\n    \"false_positives_by_class\": {";
+  bool first = true;
+  for (const auto& [c, n] : by_class) o << (first ? "" : ", ") << "\"" << c << "\": " << n, first = false;
+  o << "}";
+  return o.str();
+}
+
 void EvaluationReport::addLocalization(double stamp, double t, double r) {
   if (!frames_.empty() && frames_.back().stamp == stamp) {
     frames_.back().loc_t = t;
@@ -113,7 +131,7 @@ std::string EvaluationReport::json() const {
   int switches = 0;
   for (const auto& [id, n] : switches_) switches += n;
   o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n" << all.json("    ")
-    << ",\n    \"identity_switches\": " << switches << ",\n    \"per_object\": {";
+    << ",\n    \"identity_switches\": " << switches << falsePositivesJson() << ",\n    \"per_object\": {";
   bool first = true;
   for (const auto& [id, s] : per) {
     const auto sw = switches_.find(id);
@@ -161,6 +179,15 @@ std::string EvaluationReport::markdown() const {
   };
   for (const auto& [id, s] : per) row(id, cls[id], s);
   row("**all**", "", all);
+  if (!false_positives_.empty()) {
+    std::map<std::string, std::set<std::string>> tracks;
+    for (const FalsePositiveRow& f : false_positives_) tracks[f.class_name].insert(f.track_id);
+    o << "\nFalse positives (tracks in the scene graph matched to no object): " << false_positives_.size()
+      << " track-frames of";
+    const char* sep = " ";
+    for (const auto& [c, ids] : tracks) o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
+    o << ".\n";
+  }
   std::vector<double> lt, lr, total;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
@@ -190,6 +217,8 @@ std::string EvaluationReport::timeseriesCsv() const {
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
       << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "") << ",,,,,,,\n";
+  for (const FalsePositiveRow& f : false_positives_)
+    o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,\n";
   for (const FrameRow& f : frames_)
     o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms << ","
       << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
