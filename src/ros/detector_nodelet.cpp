@@ -5,6 +5,8 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 
+#include <cstdio>
+
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 
@@ -63,8 +65,10 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
       if (!best || std::abs((d->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec())) best = d;
   }
   if (!best || std::abs((best->header.stamp - stamp).toSec()) > depth_max_offset_) {
-    warn("no depth image on '" + depth_sub_.getTopic() + "' within " + std::to_string(depth_max_offset_) +
-         " s of the RGB image: distances from PnP alone (set use_depth false if there is no registered depth)");
+    char within[32];
+    std::snprintf(within, sizeof within, "%.3g s", depth_max_offset_);
+    warn("no depth image on '" + depth_sub_.getTopic() + "' within " + within +
+         " of the RGB image: distances from PnP alone (set use_depth false if there is no registered depth)");
     return nullptr;
   }
   try {  // registered: the depth image has the RGB camera's size and intrinsics

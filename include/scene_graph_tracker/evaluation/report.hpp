@@ -1,8 +1,8 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.* (with false positives),
-// localization.*,
-// presegmentation.*, relations.* (when relations were scored), timing.*), report.md (tables) and timeseries.csv (one row per frame and
-// object, read by scripts/plot_report.py).
+// localization.*, presegmentation.*, relations.* (when relations were scored), timing.*),
+// report.md (tables) and timeseries.csv (one row per frame, object and false positive, read by
+// scripts/plot_report.py).
 #pragma once
 
 #include <map>
@@ -46,7 +46,7 @@ class EvaluationReport {
   std::string timeseriesCsv() const;
 
  private:
-  std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n" 
+  std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n"
   struct ObjectRow {
     double stamp;
     std::string id, class_name;

@@ -200,7 +200,7 @@ class FramePipeline {
     // Where a lost track coasted when a detection restarted it: the orientation search weighs it
     // against the detection (a hidden object seldom moved; the detector's pose of a thin one is
     // often centimetres off).
-    std::optional<Eigen::Isometry3d> before_restart;
+    std::optional<Eigen::Isometry3d> before_restart = std::nullopt;
   };
   void predict(double stamp);
   void setTracksEnabled(bool enabled);

@@ -81,8 +81,12 @@ struct SensorRays {
 SensorRays makeRays(const PinholeModel& model);
 SensorRays makeRays(const SpinningLidarModel& model);
 
+// An arbitrary ray set (normalises the directions); a single row.
+SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::Vector3f> origins = {},
+                    float range_min = 0.0f, float range_max = std::numeric_limits<float>::infinity());
+
 // The rays of the last pinhole model asked for, rebuilt only when its size or intrinsics change
-// (a node gets the same camera_info at 30 Hz; building 300k rays each frame would cost ~2 ms).
+// (a node gets the same camera_info at 30 Hz; rebuilding 300k rays for each frame is wasted work).
 class PinholeRayCache {
  public:
   std::shared_ptr<const SensorRays> rays(const PinholeModel& model);
@@ -91,8 +95,5 @@ class PinholeRayCache {
   std::shared_ptr<const SensorRays> rays_;
   PinholeModel model_;
 };
-// An arbitrary ray set (normalises the directions); a single row.
-SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::Vector3f> origins = {},
-                    float range_min = 0.0f, float range_max = std::numeric_limits<float>::infinity());
 
 }  // namespace sgt
