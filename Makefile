@@ -57,7 +57,8 @@ model: build
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
 	  --minutes $(MODEL_MINUTES) --output models/sgt_keypoints.onnx --checkpoint-dir $(MODEL_DIR)/checkpoints \
 	  2>&1 | tee $(MODEL_DIR)/train.log
-	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model models/sgt_keypoints.yaml --output $(MODEL_DIR)/eval
+	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model models/sgt_keypoints.yaml --output $(MODEL_DIR)/eval \
+	  --write-thresholds
 
 clean:
 	rm -rf $(BUILD)

@@ -1,9 +1,14 @@
 // Evaluates a keypoint model on held-out rendered frames (a dataset written by render_dataset):
 // detection precision / recall (IoU >= 0.5, same class), keypoint error of matched detections
 // (px, over keypoints labelled inside the image), PnP initial pose error (translation mm, rotation
-// degrees symmetry-aware, ADD-S mm) and inference time per frame (median, ms).
+// degrees symmetry-aware, ADD-S mm) and inference time per frame (median, ms). The model's own
+// per-class score_thresholds are ignored here: per class it reports precision / recall at score
+// thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F1 where the detector
+// is reliable for the class there (precision >= 0.7); a class it is not reliable for keeps the
+// global threshold (raising it would lose true detections the tracker needs without making the
+// rest trustworthy). --write-thresholds puts the suggestions into the model's metadata YAML.
 //   rosrun scene_graph_tracker evaluate_detector --dataset DIR --model MODEL.yaml --output OUT
-//       [--catalog objects.yaml] [--limit N] [--debug-images K]
+//       [--catalog objects.yaml] [--limit N] [--debug-images K] [--write-thresholds]
 // Writes OUT/report.json and OUT/debug_*.png (the first K frames with drawn detections).
 #include <yaml-cpp/yaml.h>
 
@@ -31,11 +36,13 @@ struct Args {
   std::string dataset, model, output, catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
   std::size_t limit = 0;
   int debug_images = 8;
+  bool write_thresholds = false;
 };
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate_detector",
-                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] [--debug-images K]");
+                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] [--debug-images K] "
+                              "[--write-thresholds]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--dataset") a.dataset = value();
@@ -44,6 +51,7 @@ Args parse(int argc, char** argv) {
     else if (k == "--catalog") a.catalog = value();
     else if (k == "--limit") a.limit = std::stoul(value());
     else if (k == "--debug-images") a.debug_images = std::stoi(value());
+    else if (k == "--write-thresholds") a.write_thresholds = true;
     else return false;
     return true;
   });
@@ -103,7 +111,46 @@ double mean(const std::vector<double>& v) {
 struct ClassStats {
   std::size_t truths = 0, detections = 0, matched = 0, pnp_ok = 0;
   std::vector<double> kp_px, t_mm, r_deg, adds_mm;
+  std::vector<std::pair<float, bool>> scores;  // each detection's score and whether it matched a truth
 };
+
+// Precision and recall of the detections scoring at least t. Matching is greedy by score, so a
+// higher threshold keeps exactly the matches it had.
+struct ScorePoint {
+  float threshold;
+  double precision, recall, f1;
+};
+std::vector<ScorePoint> scoreCurve(const ClassStats& s) {
+  std::vector<ScorePoint> out;
+  for (int i = 0; i <= 9; ++i) {
+    const float t = 0.35f + 0.05f * i;
+    std::size_t kept = 0, matched = 0;
+    for (const auto& [score, m] : s.scores)
+      if (score >= t) ++kept, matched += m;
+    const double p = kept ? static_cast<double>(matched) / kept : 0.0;
+    const double r = s.truths ? static_cast<double>(matched) / s.truths : 0.0;
+    out.push_back({t, p, r, p + r > 0 ? 2 * p * r / (p + r) : 0.0});
+  }
+  return out;
+}
+const ScorePoint& bestF1(const std::vector<ScorePoint>& curve) {
+  const ScorePoint* best = &curve.front();
+  for (const ScorePoint& q : curve)
+    if (q.f1 > best->f1 + 1e-9) best = &q;
+  return *best;
+}
+constexpr double kReliablePrecision = 0.7;
+
+// Replaces the metadata's score_thresholds line (and its comment) with `line`.
+void writeThresholds(const std::string& yaml_path, const std::string& line) {
+  std::ifstream in(yaml_path);
+  std::ostringstream kept;
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind("score_thresholds:", 0) != 0 && l.rfind("# score_thresholds", 0) != 0) kept << l << "\n";
+  std::ofstream(yaml_path) << kept.str()
+                           << "# score_thresholds: per class, suggested by evaluate_detector on held-out renders\n"
+                           << line << "\n";
+}
 
 }  // namespace
 
@@ -112,6 +159,7 @@ int main(int argc, char** argv) {
   try {
     const ObjectCatalog catalog = loadObjectCatalog(args.catalog);
     detection::PoseDetector detector(args.model, catalog);
+    detector.keypoints().clearScoreThresholds();
     const PoseScorer score(catalog);  // ADD-S to each class's surface
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(fs::path(args.dataset) / "images"))
@@ -149,6 +197,7 @@ int main(int argc, char** argv) {
           const double iou = detection::iou(d.detection, tb);
           if (iou >= best_iou) best_iou = iou, best = k;
         }
+        s.scores.emplace_back(d.detection.score, best != truth.size());
         if (best == truth.size()) continue;
         used[best] = 1;
         ++s.matched;
@@ -199,7 +248,15 @@ int main(int argc, char** argv) {
       << "\n  },\n  \"per_class\": {";
     bool first = true;
     for (const auto& [c, s] : per) {
-      j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ") << "\n    }";
+      const auto curve = scoreCurve(s);
+      const ScorePoint& best = bestF1(curve);
+      j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ")
+        << ",\n      \"best_f1_score_threshold\": " << best.threshold << ", \"suggested_score_threshold\": "
+        << (best.precision >= kReliablePrecision ? num(best.threshold) : "null") << ",\n      \"score_curve\": [";
+      for (std::size_t i = 0; i < curve.size(); ++i)
+        j << (i ? ", " : "") << "{\"threshold\": " << curve[i].threshold << ", \"precision\": " << num(curve[i].precision)
+          << ", \"recall\": " << num(curve[i].recall) << "}";
+      j << "]\n    }";
       first = false;
     }
     j << "\n  }\n}\n";
@@ -214,6 +271,23 @@ int main(int argc, char** argv) {
     };
     for (const auto& [c, s] : per) row(c, s);
     row("**all**", all);
+    std::cout << "\nscore threshold with the best F1 per class (precision / recall there):";
+    std::ostringstream suggested;
+    const char* sep = "";
+    for (const auto& [c, s] : per) {
+      const auto curve = scoreCurve(s);
+      const ScorePoint& best = bestF1(curve);
+      std::cout << " " << c << " " << best.threshold << " (" << num(best.precision) << " / " << num(best.recall) << ")";
+      if (best.precision >= kReliablePrecision)
+        suggested << sep << c << ": " << best.threshold, sep = ", ";
+    }
+    const std::string line = "score_thresholds: {" + suggested.str() + "}";
+    std::cout << "\nsuggested (best F1 where precision >= " << kReliablePrecision << "; others keep the global): " << line
+              << "\n";
+    if (args.write_thresholds) {
+      writeThresholds(args.model, line);
+      std::cout << "written into " << args.model << "\n";
+    }
     std::cout << "\ninference (detector incl. letterbox + decoding + PnP) median " << num(median(infer_ms))
               << " ms per frame. Report: " << args.output << "/report.json\n";
   } catch (const std::exception& e) {

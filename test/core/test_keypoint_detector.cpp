@@ -127,6 +127,27 @@ TEST(DecodeYoloPose, NanScoresAreDropped) {
   EXPECT_TRUE(decodeYoloPose(blob.mat, info, letterboxGeometry(320, 320, 320, 320), {}).empty());
 }
 
+TEST(DecodeYoloPose, PerClassScoreThresholdsRaiseTheGlobalOne) {
+  ModelInfo info = twoClassInfo(0);
+  info.score_thresholds = {{"klt", 0.6f}};
+  Blob blob(info, 4);
+  blob.set(0, {50, 50, 10, 10}, 0, 0.5f, {});    // relay 0.5: the global 0.35 applies, kept
+  blob.set(1, {150, 50, 10, 10}, 1, 0.5f, {});   // klt 0.5 < its 0.6: dropped
+  blob.set(2, {250, 50, 10, 10}, 1, 0.65f, {});  // klt 0.65: kept
+  blob.set(3, {50, 150, 10, 10}, 0, 0.3f, {});   // relay below the global: dropped
+  const Letterbox lb = letterboxGeometry(320, 320, 320, 320);
+  DecodeOptions opt;
+  opt.score_threshold = 0.35f;
+  auto dets = decodeYoloPose(blob.mat, info, lb, opt);
+  ASSERT_EQ(dets.size(), 2u);
+  EXPECT_EQ(dets[0].class_name, "klt");
+  EXPECT_FLOAT_EQ(dets[0].score, 0.65f);
+  EXPECT_EQ(dets[1].class_name, "relay");
+  opt.score_threshold = 0.7f;  // a global threshold above a class's entry wins
+  dets = decodeYoloPose(blob.mat, info, lb, opt);
+  EXPECT_TRUE(dets.empty());
+}
+
 TEST(Nms, SuppressesOverlapsOfTheSameClassOnly) {
   const auto det = [](int cls, float score, double x0, double y0, double x1, double y1) {
     Detection d;
@@ -169,4 +190,15 @@ TEST(ModelInfo, LoadsMetadataAndNamesMissingKeys) {
     EXPECT_NE(std::string(e.what()).find("missing 'names'"), std::string::npos) << e.what();
   }
   EXPECT_THROW(KeypointDetector{good}, DetectorError);  // m.onnx does not exist
+  const std::string thresholds = sgt::test::writeFile(
+      "t.yaml", "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: 9\nscore_thresholds: {b: 0.6}\n");
+  EXPECT_FLOAT_EQ(loadModelInfo(thresholds).score_thresholds.at("b"), 0.6f);
+  const std::string unknown = sgt::test::writeFile(
+      "u.yaml", "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: 9\nscore_thresholds: {c: 0.6}\n");
+  try {
+    loadModelInfo(unknown);
+    FAIL();
+  } catch (const DetectorError& e) {
+    EXPECT_NE(std::string(e.what()).find("'c', not one of its classes"), std::string::npos) << e.what();
+  }
 }

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <stdexcept>
@@ -34,6 +35,10 @@ struct ModelInfo {
   int letterbox_pad = 114;     // grey value of the padding
   double scale = 1.0 / 255.0;  // pixel value -> network input
   bool swap_rb = false;        // false: the network takes RGB
+  // Per-class minimum scores (optional `score_thresholds: {klt: 0.5, ...}`): a model's scores are
+  // not calibrated alike across classes; evaluate_detector suggests these from held-out frames.
+  // A class's detections need max(DecodeOptions::score_threshold, its entry).
+  std::map<std::string, float> score_thresholds;
 
   int channels() const { return 4 + static_cast<int>(names.size()) + 3 * keypoints; }
 };
@@ -108,6 +113,8 @@ class KeypointDetector {
   KeypointDetector& operator=(const KeypointDetector&) = delete;
 
   const ModelInfo& info() const { return info_; }
+  // Ignore the metadata's per-class score_thresholds (evaluate_detector calibrates them).
+  void clearScoreThresholds() { info_.score_thresholds.clear(); }
   DecodeOptions& options() { return options_; }
   // `rgb`: 8-bit, 3 channels, RGB order.
   std::vector<Detection> detect(const cv::Mat& rgb);

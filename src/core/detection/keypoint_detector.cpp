@@ -36,11 +36,15 @@ ModelInfo loadModelInfo(const std::string& yaml_path) {
     if (y["letterbox_pad"]) info.letterbox_pad = y["letterbox_pad"].as<int>();
     if (y["scale"]) info.scale = y["scale"].as<double>();
     if (y["swap_rb"]) info.swap_rb = y["swap_rb"].as<bool>();
+    if (y["score_thresholds"]) info.score_thresholds = y["score_thresholds"].as<std::map<std::string, float>>();
   } catch (const YAML::Exception& e) {
     throw DetectorError("model metadata " + yaml_path + ": " + e.what());
   }
   if (info.input_width <= 0 || info.input_height <= 0 || info.names.empty() || info.keypoints < 0)
     throw DetectorError("model metadata " + yaml_path + ": input size, names and keypoints must be positive");
+  for (const auto& [name, t] : info.score_thresholds)
+    if (std::find(info.names.begin(), info.names.end(), name) == info.names.end())
+      throw DetectorError("model metadata " + yaml_path + ": score_thresholds names '" + name + "', not one of its classes");
   return info;
 }
 
@@ -120,13 +124,17 @@ std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& in
                         std::to_string(info.channels()));
   const float* data = output.ptr<float>();
   const auto at = [&](int c, int a) { return data[static_cast<std::size_t>(c) * anchors + a]; };
+  std::vector<float> threshold(nc, options.score_threshold);
+  for (int c = 0; c < nc; ++c)
+    if (const auto it = info.score_thresholds.find(info.names[c]); it != info.score_thresholds.end())
+      threshold[c] = std::max(threshold[c], it->second);
   std::vector<Detection> candidates;
   for (int a = 0; a < anchors; ++a) {
     int best = 0;
     for (int c = 1; c < nc; ++c)
       if (at(4 + c, a) > at(4 + best, a)) best = c;
     const float score = at(4 + best, a);
-    if (!(score >= options.score_threshold)) continue;  // also drops NaN
+    if (!(score >= threshold[best])) continue;  // also drops NaN
     Detection d;
     d.class_id = best;
     d.class_name = info.names[best];
