@@ -112,10 +112,6 @@ struct PipelineOptions {
   bool search_orientations = false;
   int max_orientation_searches = 1;  // per frame (each refines 24 candidates): others wait a frame
   double orientation_search_interval_s = 2.0;  // a track is searched again no sooner than this
-  // A confirmed track is searched again once the sensors are closer than this fraction of the
-  // range of its last search: from 2.8 m (depth noise ~12 mm) the demo's multimeter and its 180°
-  // twin fit alike, from 1.3 m they do not. 0 turns it off.
-  double orientation_research_range_fraction = 0.6;
   RefinerOptions orientation_refiner = orientationRefinerDefaults();
   bool run_presegmentation = true;
   bool compute_relations = true;
@@ -205,7 +201,6 @@ class FramePipeline {
     // against the detection (a hidden object seldom moved; the detector's pose of a thin one is
     // often centimetres off).
     std::optional<Eigen::Isometry3d> before_restart = std::nullopt;
-    double search_range = 0.0;  // m from the sensors at the last orientation search (0: none yet)
   };
   void predict(double stamp);
   void setTracksEnabled(bool enabled);
@@ -219,8 +214,6 @@ class FramePipeline {
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
-  // Distance from track o to the nearest sensor of the frame.
-  static double sensorRange(const TrackedObject& o, const std::vector<RangeMeasurements>& sets);
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
   std::string trackIdOf(NodeId node) const;       // "" when no track has that node

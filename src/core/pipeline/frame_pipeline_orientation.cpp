@@ -1,6 +1,5 @@
 // FramePipeline: the orientation search for tracks just confirmed or restarted from a detection
-// (a restarted track's pose before the restart competes too, first: the detection must beat it),
-// and again for confirmed tracks once the sensors are much closer than at their last search.
+// (a restarted track's pose before the restart competes too, first: the detection must beat it).
 #include <algorithm>
 #include <optional>
 #include <utility>
@@ -14,14 +13,6 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
   static const std::vector<Eigen::Matrix3d> rotations = cuboidRotations();
   OrientationPrior prior;
   prior.world_up = Eigen::Vector3d::UnitZ();  // the map's z (REP-103)
-  for (const Track& t : tracks_) {  // seen from much closer than at the last search: again
-    const bool child = graph_.node(t.out.node).parent != kWorldNode;
-    if (t.out.state != TrackState::kConfirmed || child || t.search_range <= 0.0 ||
-        sensorRange(t.out, sets) >= options_.orientation_research_range_fraction * t.search_range ||
-        std::find(needs_orientation_.begin(), needs_orientation_.end(), t.out.id) != needs_orientation_.end())
-      continue;
-    needs_orientation_.push_back(t.out.id);
-  }
   int searched = 0;
   std::vector<std::string> waiting;
   for (const std::string& id : needs_orientation_) {
@@ -35,7 +26,6 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     const std::optional<Eigen::Isometry3d> before = std::exchange(t.before_restart, std::nullopt);
     if (stamp - t.last_orientation_search < options_.orientation_search_interval_s) continue;  // a lost track
     t.last_orientation_search = stamp;                                                         // restarting again
-    t.search_range = sensorRange(t.out, sets);
     const ObjectClass& c = catalog_->get(t.out.class_name);
     ++searched;
     std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);

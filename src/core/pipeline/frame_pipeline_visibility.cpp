@@ -7,18 +7,13 @@
 
 namespace sgt {
 
-double FramePipeline::sensorRange(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) {
-  double range = 0.0;
+double FramePipeline::fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const {
+  const double few = static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers);
+  double range = 0.0;  // to the nearest sensor of the frame
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const double d = (o.T_map_object.translation() - sets[s].T_world_sensor.translation()).norm();
     range = s == 0 ? d : std::min(range, d);
   }
-  return range;
-}
-
-double FramePipeline::fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const {
-  const double few = static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers);
-  const double range = sensorRange(o, sets);
   const double far = options_.far_fit_from_m > 0.0 ? std::pow(range / options_.far_fit_from_m, 4) : 1.0;
   return std::max(1.0, few) * std::max(1.0, far);
 }
