@@ -242,13 +242,15 @@ int main(int argc, char** argv) {
         << num(median(s.adds_mm));
       return o.str();
     };
+    std::map<std::string, std::vector<ScorePoint>> curves;
+    for (const auto& [c, s] : per) curves[c] = scoreCurve(s);
     std::ostringstream j;
     j << "{\n  \"frames\": " << names.size() << ",\n  \"model\": \"" << args.model << "\",\n"
       << "  \"inference_ms_median\": " << num(median(infer_ms)) << ",\n  \"all\": {\n" << stats_json(all, "    ")
       << "\n  },\n  \"per_class\": {";
     bool first = true;
     for (const auto& [c, s] : per) {
-      const auto curve = scoreCurve(s);
+      const auto& curve = curves.at(c);
       const ScorePoint& best = bestF1(curve);
       j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ")
         << ",\n      \"best_f1_score_threshold\": " << best.threshold << ", \"suggested_score_threshold\": "
@@ -274,8 +276,7 @@ int main(int argc, char** argv) {
     std::cout << "\nscore threshold with the best F1 per class (precision / recall there):";
     std::ostringstream suggested;
     const char* sep = "";
-    for (const auto& [c, s] : per) {
-      const auto curve = scoreCurve(s);
+    for (const auto& [c, curve] : curves) {
       const ScorePoint& best = bestF1(curve);
       std::cout << " " << c << " " << best.threshold << " (" << num(best.precision) << " / " << num(best.recall) << ")";
       if (best.precision >= kReliablePrecision)

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
+#include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 
 namespace sgt::ros {
@@ -61,10 +62,9 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
   sensor_msgs::ImageConstPtr best;
   {
     std::lock_guard<std::mutex> lock(depth_mutex_);
-    for (const auto& d : depth_images_)
-      if (!best || std::abs((d->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec())) best = d;
+    best = closestInTime(depth_images_, stamp, depth_max_offset_);
   }
-  if (!best || std::abs((best->header.stamp - stamp).toSec()) > depth_max_offset_) {
+  if (!best) {
     char within[32];
     std::snprintf(within, sizeof within, "%.3g s", depth_max_offset_);
     warn("no depth image on '" + depth_sub_.getTopic() + "' within " + within +

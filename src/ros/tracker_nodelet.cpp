@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
@@ -150,11 +151,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
     const Eigen::Isometry3d T_base_camera = lookup(base_frame_, depth->header.frame_id, stamp);
     // The detections of this image: the one hypothesis array closest in time (a detector emits one
     // per image); using every array within the window would count each object several times.
-    scene_graph_tracker::PoseHypothesisArrayConstPtr best;
-    for (const auto& h : hypotheses_)
-      if (std::abs((h->header.stamp - stamp).toSec()) <= hypothesis_max_age_ &&
-          (!best || std::abs((h->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec())))
-        best = h;
+    const scene_graph_tracker::PoseHypothesisArrayConstPtr best = closestInTime(hypotheses_, stamp, hypothesis_max_age_);
     if (best) {
       const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth->header.frame_id
                                                  ? T_base_camera
