@@ -165,22 +165,30 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
                         ((r.objects[k].T_world_object.translation() - o.T_map_object.translation()).norm() >
                              options_.lost_track_max_jump_m ||
                          o.quality.inlier_ratio < options_.lost_track_resume_inlier_ratio);
+    const bool child = graph_.node(o.node).parent != kWorldNode;
     if (o.quality.status == RefineStatus::kOk && !jumped) {
       // A fit from few points or from far away is a weaker measurement (fitWeakness), and the
       // track reports the filtered pose rather than that frame's fit (the screwdriver at 2.5 m:
       // ~40 inliers, fits jumping by 1-2 cm). Not for a child: its filter does not follow its
       // parent's motion.
-      const bool child = graph_.node(o.node).parent != kWorldNode;
       const double weak = child ? 1.0 : fitWeakness(o, sets);
       t.filter.update(r.objects[k].T_world_object, C * weak, &catalog_->get(o.class_name).symmetry);
       o.T_map_object = weak > 1.0 ? t.filter.pose() : r.objects[k].T_world_object;
       o.last_refined = stamp;
-      t.absent_since = -1.0;
+      const double ratio = o.quality.inlier_ratio;
+      t.fit_support = t.fit_support < 0.0 ? ratio : t.fit_support + options_.fit_support_weight * (ratio - t.fit_support);
+      // A confirmed track whose good fits keep leaving most of its rays unexplained (they pass
+      // through the model to what lies behind) is no object there. Not a child: its fits are
+      // cut by its parent.
+      const bool unsupported = o.state != TrackState::kTentative && !child && t.fit_support < options_.min_fit_support;
+      if (!unsupported) t.absent_since = -1.0;
+      else if (t.absent_since < 0.0) t.absent_since = stamp;
       // A tentative track's fit counts towards confirmation only when it explains most of the
       // rays that reach the model: a detection on something else (the walking person, in the
       // detector demo) lets a model fit a patch of it, but then explains 35-50 % of its rays.
       if (o.state != TrackState::kTentative || o.quality.inlier_ratio >= options_.confirm_inlier_ratio) ++o.hits;
-      const bool confirmed = o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections;
+      const bool confirmed = o.hits >= options_.confirm_hits && o.detections >= options_.confirm_detections &&
+                             t.fit_support >= options_.min_fit_support;
       if (confirmed && o.state == TrackState::kTentative)
         needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
       if (confirmed || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
@@ -189,7 +197,6 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
       // it) but hardly any agree with it; hidden or out-of-view objects have none expected.
       // A child (in / on another track) is hidden by its parent more than the rays know (a relay
       // deep in a crate) and its pose is only the parent's: it collects no evidence of absence.
-      const bool child = graph_.node(o.node).parent != kWorldNode;
       if (child) t.filter.update(graph_.worldTransform(o.node), C_follow, &catalog_->get(o.class_name).symmetry);
       o.T_map_object = child ? graph_.worldTransform(o.node) : t.filter.pose();
       if (child) {
@@ -305,12 +312,15 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
 
   // 4. Pre-segment every measurement against the map and the tracked objects. Tentative tracks
   // (one detection, not yet confirmed) explain nothing: a false detection on an unknown thing
-  // would hide it, and a real new object is confirmed within a few frames.
+  // would hide it, and a real new object is confirmed within a few frames. Neither do tracks
+  // whose recent fits the measurements contradict (fit support below min_fit_support): they are
+  // on their way out, and what they cover is most likely the unknown thing they sit on.
   t0 = Clock::now();
   if (options_.run_presegmentation) {
     std::vector<NodeId> hidden;
     for (const Track& t : tracks_)
-      if (t.out.state == TrackState::kTentative) hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
+      if (t.out.state == TrackState::kTentative || (t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support))
+        hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
     if (!hidden.empty()) scene_.commit();
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
     for (NodeId n : hidden) scene_.setInstanceEnabled(n, true);
