@@ -253,6 +253,43 @@ TEST(FramePipeline, AConfirmedTrackTheMeasurementsContradictGoes) {
   EXPECT_LT(unknown_before, 90u);
 }
 
+// A detector keeps reporting a relay on the floor behind the robot, out of the camera's view, so
+// no ray can tell whether it is there. Resting on the floor, its track stays;
+// sunk 4 cm into the floor it is nowhere a real object can be and goes after
+// remove_tentative_after_s each time (the next detection starts a new one), unless the rule is
+// off (max_sunk_fraction 1). Returns the longest life of a relay track over 2 s.
+double longestRelayTrackBehindTheRobot(double z_offset, double max_sunk_fraction) {
+  const Eigen::Vector3d top = test::benchScene()->top;
+  const UnknownThingView view(makeBox({0.05f, 0.05f, 0.05f}), test::poseXyzYaw(top + Eigen::Vector3d(0, 0, 0.3), 0.0));
+  PipelineOptions options;
+  options.localize = false;
+  options.max_sunk_fraction = max_sunk_fraction;
+  FramePipeline pipeline(view.bench->catalog, view.bench->map, options);
+  const double half_height = 0.104 / 2;
+  Eigen::Vector3d behind = view.bench->T_map_base * Eigen::Vector3d(-1.0, 0.0, 0.0);
+  behind.z() = top.z() - 0.75 + half_height + z_offset;
+  const Eigen::Isometry3d T_relay = test::poseXyzYaw(behind, 0.3);
+  double longest = 0.0;
+  for (int f = 0; f < 60; ++f) {
+    PipelineFrame frame = view.frame(f, 1100);
+    frame.hypotheses.push_back({"relay", view.bench->T_map_base.inverse() * T_relay, 0.9});
+    const PipelineResult r = pipeline.process(frame);
+    for (const TrackedObject& o : r.objects) {
+      if (o.class_name != "relay") continue;
+      EXPECT_EQ(o.quality.status, RefineStatus::kNotVisible) << "it must be out of view (else no test)";
+      longest = std::max(longest, r.stamp - o.first_seen);
+    }
+  }
+  return longest;
+}
+
+TEST(FramePipeline, ATrackSunkIntoTheMapGoesEvenUnseen) {
+  const double defaults = PipelineOptions().max_sunk_fraction;
+  EXPECT_GT(longestRelayTrackBehindTheRobot(0.001, defaults), 1.9) << "resting on the floor";
+  EXPECT_LT(longestRelayTrackBehindTheRobot(-0.04, defaults), 0.5) << "4 cm into the floor";
+  EXPECT_GT(longestRelayTrackBehindTheRobot(-0.04, 1.0), 1.9) << "without the rule";
+}
+
 // A robot driving past the bench with drifting odometry: every LiDAR frame corrects map -> odom.
 // Composing `estimate * prior.inverse() * map_odom` with Isometry3d::inverse() (a transpose)
 // amplified any deviation from a rotation about threefold per correction, until the scans were

@@ -91,6 +91,14 @@ struct PipelineOptions {
   // (0.59 for three frames of the multimeter right after it was confirmed).
   double fit_support_weight = 0.25;
   double min_fit_support = 0.65;
+  // A track whose model lies partly inside the static map is nowhere a real object can be:
+  // when more than max_sunk_fraction of its surface samples are deeper than sink_tolerance_m
+  // behind the map's surface (its triangles' winding side), for remove_after_s, it goes, seen or
+  // not. In the detector demo, false tracks sank 2-5 cm into the bench and the floor, where the
+  // map hid them from every ray and no other evidence of absence reached them. Needs a map mesh
+  // wound outwards (or towards where it was scanned from); 1 turns it off.
+  double max_sunk_fraction = 0.2;
+  double sink_tolerance_m = 0.01;
   double remove_after_s = 1.0;         // evidence of absence for this long removes a track
   double remove_tentative_after_s = 0.3;
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
@@ -206,6 +214,7 @@ class FramePipeline {
     TrackedObject out;
     PoseFilter filter;
     double absent_since = -1.0;  // < 0: no evidence of absence
+    double sunk_since = -1.0;    // < 0: not inside the static map
     double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
     double last_orientation_search = -1e9;
     // Where a lost track coasted when a detection restarted it: the orientation search weighs it
@@ -223,6 +232,7 @@ class FramePipeline {
   // most of those that would reach it without the other tracks (max_hidden_fraction_for_absence)
   // find no surface there (inlier ratio below the refiner's). frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
+  bool sunkIntoMap(const Track& t) const;
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_
@@ -236,6 +246,7 @@ class FramePipeline {
   RaycastScene scene_;
   SceneGraph graph_;
   std::map<std::string, MeshId> class_mesh_;
+  std::map<std::string, std::vector<Eigen::Vector3f>> class_samples_;  // surface points, object frame
   std::map<std::string, int> class_count_;
   std::vector<Track> tracks_;
   std::vector<std::string> needs_orientation_;  // track ids confirmed or restarted: search next

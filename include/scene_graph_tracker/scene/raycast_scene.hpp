@@ -119,6 +119,7 @@ class RaycastScene {
   // The static map (building) as node `node`, with the identity pose. Replaces a previous map.
   void setStaticMap(std::shared_ptr<const TriangleMesh> map, NodeId node);
   NodeId staticMapNode() const { return static_map_node_; }
+  MeshId staticMapMesh() const { return static_map_mesh_; }  // -1 without a map
 
   // Instances are keyed by scene-graph node id; a node has at most one instance.
   void addInstance(NodeId node, MeshId mesh, const Eigen::Isometry3d& T_world_object);

@@ -30,7 +30,12 @@ FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::
     : catalog_(std::move(catalog)), options_(options) {
   map_node_ = graph_.add("static_map", "static_map", kWorldNode, Eigen::Isometry3d::Identity());
   scene_.setStaticMap(std::move(static_map), map_node_);
-  for (const std::string& name : catalog_->names()) class_mesh_[name] = scene_.addMesh(catalog_->get(name).mesh);
+  for (const std::string& name : catalog_->names()) {
+    const auto& mesh = catalog_->get(name).mesh;
+    class_mesh_[name] = scene_.addMesh(mesh);
+    const std::size_t step = std::max<std::size_t>(1, mesh->vertices.size() / 64);  // up to ~64 vertices
+    for (std::size_t i = 0; i < mesh->vertices.size(); i += step) class_samples_[name].push_back(mesh->vertices[i]);
+  }
   scene_.commit();
 }
 
@@ -228,6 +233,10 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
       else if (t.absent_since < 0.0) t.absent_since = stamp;
     }
   }
+  for (Track& t : tracks_) {
+    if (graph_.node(t.out.node).parent != kWorldNode || !sunkIntoMap(t)) t.sunk_since = -1.0;
+    else if (t.sunk_since < 0.0) t.sunk_since = stamp;
+  }
   for (std::size_t k = tracks_.size(); k-- > 0;) {
     Track& t = tracks_[k];
     const double limit =
@@ -236,7 +245,8 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     // positive out of the sensors' reach never collects evidence of absence).
     const bool stale = t.out.state == TrackState::kTentative &&
                        stamp - t.out.last_hypothesis > options_.tentative_timeout_s;
-    if (!stale && (t.absent_since < 0.0 || stamp - t.absent_since < limit)) continue;
+    const bool sunk = t.sunk_since >= 0.0 && stamp - t.sunk_since >= limit;
+    if (!stale && !sunk && (t.absent_since < 0.0 || stamp - t.absent_since < limit)) continue;
     dropped.push_back(t.out.id);
     hysteresis_.forget(t.out.id);
     scene_.removeInstance(t.out.node);

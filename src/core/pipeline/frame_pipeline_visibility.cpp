@@ -61,4 +61,20 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
 }
 
+bool FramePipeline::sunkIntoMap(const Track& t) const {
+  const MeshId map = scene_.staticMapMesh();
+  if (map < 0 || options_.max_sunk_fraction >= 1.0) return false;
+  const std::vector<Eigen::Vector3f>& samples = class_samples_.at(t.out.class_name);
+  const Eigen::Isometry3f T = t.out.T_map_object.cast<float>();
+  const float tolerance = static_cast<float>(options_.sink_tolerance_m);
+  std::size_t sunk = 0;
+  for (const Eigen::Vector3f& p_object : samples) {
+    const Eigen::Vector3f p = T * p_object;
+    SurfacePoint q;  // the map is instanced with the identity: its frame is the map frame
+    if (!scene_.closestPoint(map, p, 5.0f * tolerance, q) || q.distance <= tolerance) continue;
+    sunk += (p - q.point).dot(q.normal) < 0.0f;  // behind the closest face
+  }
+  return static_cast<double>(sunk) > options_.max_sunk_fraction * static_cast<double>(samples.size());
+}
+
 }  // namespace sgt
