@@ -57,6 +57,8 @@ void TrackerNodelet::onInit() {
   o.localize = pnh.param("localize", o.localize);
   o.association_distance = pnh.param("association_distance", o.association_distance);
   o.remove_after_s = pnh.param("remove_after", o.remove_after_s);
+  o.min_fit_support = pnh.param("min_fit_support", o.min_fit_support);
+  o.max_sunk_fraction = pnh.param("max_sunk_fraction", o.max_sunk_fraction);
   o.min_hypothesis_score = pnh.param("min_hypothesis_score", o.min_hypothesis_score);
   o.run_presegmentation = pnh.param("presegment", o.run_presegmentation);
   o.search_orientations = pnh.param("search_orientations", o.search_orientations);
