@@ -185,8 +185,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
       // A confirmed track whose good fits keep leaving most of its rays unexplained (they pass
       // through the model to what lies behind) is no object there. Not a child: its fits are
       // cut by its parent.
-      const bool unsupported = o.state != TrackState::kTentative && !child && t.fit_support < options_.min_fit_support;
-      if (!unsupported) t.absent_since = -1.0;
+      if (o.state == TrackState::kTentative || child || !unsupported(t)) t.absent_since = -1.0;
       else if (t.absent_since < 0.0) t.absent_since = stamp;
       // A tentative track's fit counts towards confirmation only when it explains most of the
       // rays that reach the model: a detection on something else (the walking person, in the
@@ -323,13 +322,14 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   // 4. Pre-segment every measurement against the map and the tracked objects. Tentative tracks
   // (one detection, not yet confirmed) explain nothing: a false detection on an unknown thing
   // would hide it, and a real new object is confirmed within a few frames. Neither do tracks
-  // whose recent fits the measurements contradict (fit support below min_fit_support): they are
-  // on their way out, and what they cover is most likely the unknown thing they sit on.
+  // whose recent fits the measurements contradict (fit support below min_fit_support; not a
+  // child, whose fits its parent cuts): they are on their way out, and what they cover is most
+  // likely the unknown thing they sit on.
   t0 = Clock::now();
   if (options_.run_presegmentation) {
     std::vector<NodeId> hidden;
     for (const Track& t : tracks_)
-      if (t.out.state == TrackState::kTentative || (t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support))
+      if (t.out.state == TrackState::kTentative || (unsupported(t) && graph_.node(t.out.node).parent == kWorldNode))
         hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
     if (!hidden.empty()) scene_.commit();
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
