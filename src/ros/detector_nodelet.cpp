@@ -53,8 +53,7 @@ void DetectorNodelet::warn(const std::string& text) {
 
 void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
   std::lock_guard<std::mutex> lock(depth_mutex_);
-  depth_images_.push_back(depth);
-  while (depth_images_.size() > 5) depth_images_.pop_front();
+  pushRecent(depth_images_, depth, 5);
 }
 
 std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp, const PinholeModel& camera) {

@@ -118,14 +118,12 @@ void TrackerNodelet::warn(const std::string& text) {
 
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
   std::lock_guard<std::mutex> lock(mutex_);
-  clouds_.push_back(cloud);
-  while (clouds_.size() > 5) clouds_.pop_front();
+  pushRecent(clouds_, cloud, 5);
 }
 
 void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
-  hypotheses_.push_back(msg);
-  while (hypotheses_.size() > 30) hypotheses_.pop_front();
+  pushRecent(hypotheses_, msg, 30);
 }
 
 void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sensor_msgs::CameraInfoConstPtr& info) {

@@ -233,7 +233,13 @@ class FramePipeline {
   // find no surface there (inlier ratio below the refiner's). frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
   bool sunkIntoMap(const Track& t) const;
-  bool unsupported(const Track& t) const { return t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support; }
+  // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.
+  bool isChild(NodeId node) const { return graph_.node(node).parent != kWorldNode; }
+  // A track (not a child) whose recent fits the measurements contradict (fit support below
+  // min_fit_support).
+  bool unsupported(const Track& t) const {
+    return !isChild(t.out.node) && t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support;
+  }
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_

@@ -1,10 +1,13 @@
-// The buffered message closest in time to a stamp, within a maximum offset: pairing a frame with
-// the detections of its image (tracker) or an RGB image with its depth image (detector).
+// Small buffers of recent messages, and the one closest in time to a stamp within a maximum
+// offset: pairing a frame with the detections of its image (tracker) or an RGB image with its
+// depth image (detector).
 #pragma once
 
 #include <ros/time.h>
 
 #include <cmath>
+#include <cstddef>
+#include <utility>
 
 namespace sgt::ros {
 
@@ -18,6 +21,13 @@ typename Container::value_type closestInTime(const Container& messages, const ::
     if (offset <= best_offset && (!best || offset < best_offset)) best = m, best_offset = offset;
   }
   return best;
+}
+
+// Appends `message` and drops the oldest beyond `keep`.
+template <typename Container>
+void pushRecent(Container& messages, typename Container::value_type message, std::size_t keep) {
+  messages.push_back(std::move(message));
+  while (messages.size() > keep) messages.pop_front();
 }
 
 }  // namespace sgt::ros

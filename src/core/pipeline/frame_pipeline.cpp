@@ -93,7 +93,7 @@ void FramePipeline::predict(double stamp) {
   // (moved just before it), so what is in or on a carried object is carried along.
   for (std::size_t k : parentsFirst()) {
     Track& t = tracks_[k];
-    if (graph_.node(t.out.node).parent == kWorldNode) graph_.setWorldTransform(t.out.node, t.filter.pose());
+    if (!isChild(t.out.node)) graph_.setWorldTransform(t.out.node, t.filter.pose());
     t.out.T_map_object = graph_.worldTransform(t.out.node);
     scene_.setInstancePose(t.out.node, t.out.T_map_object);
   }
@@ -125,7 +125,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
       // A track whose fit failed may have moved unseen: wider gate. Not a child: it is where
       // its parent holds it (a relay hidden in a crate), and a detection of its class farther
       // away is another object or a false one (in the demo, one pulled the relay out of the KLT).
-      const bool child = graph_.node(o.node).parent != kWorldNode;
+      const bool child = isChild(o.node);
       const double gate = o.quality.status == RefineStatus::kOk || child ? options_.association_distance
                                                                           : options_.reacquire_distance;
       cost(h, k) = o.class_name == hypotheses[h].class_name && d < gate ? d : forbidden;
@@ -170,7 +170,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
                         ((r.objects[k].T_world_object.translation() - o.T_map_object.translation()).norm() >
                              options_.lost_track_max_jump_m ||
                          o.quality.inlier_ratio < options_.lost_track_resume_inlier_ratio);
-    const bool child = graph_.node(o.node).parent != kWorldNode;
+    const bool child = isChild(o.node);
     if (o.quality.status == RefineStatus::kOk && !jumped) {
       // A fit from few points or from far away is a weaker measurement (fitWeakness), and the
       // track reports the filtered pose rather than that frame's fit (the screwdriver at 2.5 m:
@@ -185,7 +185,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
       // A confirmed track whose good fits keep leaving most of its rays unexplained (they pass
       // through the model to what lies behind) is no object there. Not a child: its fits are
       // cut by its parent.
-      if (o.state == TrackState::kTentative || child || !unsupported(t)) t.absent_since = -1.0;
+      if (o.state == TrackState::kTentative || !unsupported(t)) t.absent_since = -1.0;
       else if (t.absent_since < 0.0) t.absent_since = stamp;
       // A tentative track's fit counts towards confirmation only when it explains most of the
       // rays that reach the model: a detection on something else (the walking person, in the
@@ -233,7 +233,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     }
   }
   for (Track& t : tracks_) {
-    if (graph_.node(t.out.node).parent != kWorldNode || !sunkIntoMap(t)) t.sunk_since = -1.0;
+    if (isChild(t.out.node) || !sunkIntoMap(t)) t.sunk_since = -1.0;
     else if (t.sunk_since < 0.0) t.sunk_since = stamp;
   }
   for (std::size_t k = tracks_.size(); k-- > 0;) {
@@ -329,7 +329,7 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   if (options_.run_presegmentation) {
     std::vector<NodeId> hidden;
     for (const Track& t : tracks_)
-      if (t.out.state == TrackState::kTentative || (unsupported(t) && graph_.node(t.out.node).parent == kWorldNode))
+      if (t.out.state == TrackState::kTentative || unsupported(t))
         hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
     if (!hidden.empty()) scene_.commit();
     for (const RangeMeasurements& m : sets) out.presegmentation.push_back(presegment(scene_, m, options_.presegmentation));
