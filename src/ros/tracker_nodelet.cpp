@@ -58,6 +58,7 @@ void TrackerNodelet::onInit() {
   o.association_distance = pnh.param("association_distance", o.association_distance);
   o.remove_after_s = pnh.param("remove_after", o.remove_after_s);
   o.min_fit_support = pnh.param("min_fit_support", o.min_fit_support);
+  o.min_weak_fit_inliers = pnh.param("min_weak_fit_inliers", o.min_weak_fit_inliers);
   o.max_sunk_fraction = pnh.param("max_sunk_fraction", o.max_sunk_fraction);
   o.min_hypothesis_score = pnh.param("min_hypothesis_score", o.min_hypothesis_score);
   o.run_presegmentation = pnh.param("presegment", o.run_presegmentation);

@@ -81,6 +81,13 @@ struct PipelineOptions {
   // confirmed track then explained the box's points (pre-segmentation recall 0.71 in the demo).
   int confirm_detections = 3;
   double confirm_inlier_ratio = 0.55;  // ... and whose fits explain at least this fraction of their rays
+  // A tentative track's fit from fewer inliers than the refiner's alignment.min_points still
+  // places the track when it has min_weak_fit_inliers and explains confirm_inlier_ratio of the
+  // rays reaching the model: the next frame refines from there rather than from the detection
+  // (it counts neither as a hit nor towards fit support). In the detector demo the screwdriver
+  // at 2.6-2.8 m shows 5-15 rays, its detections are 7-15 cm off along its axis, and each fit
+  // gets half way to it before the next detection reset the track.
+  int min_weak_fit_inliers = 6;
   // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
   // a track's good fits, i.e. the share of the rays reaching its model that its measurements
   // agree with (the others pass through the model to something behind it). Confirmation needs
@@ -216,6 +223,7 @@ class FramePipeline {
     double absent_since = -1.0;  // < 0: no evidence of absence
     double sunk_since = -1.0;    // < 0: not inside the static map
     double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
+    bool placed_by_fit = false;  // tentative, at its last weak fit (min_weak_fit_inliers)
     double last_orientation_search = -1e9;
     // Where a lost track coasted when a detection restarted it: the orientation search weighs it
     // against the detection (a hidden object seldom moved; the detector's pose of a thin one is
