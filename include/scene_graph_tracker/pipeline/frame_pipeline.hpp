@@ -85,8 +85,8 @@ struct PipelineOptions {
   // places the track when it has min_weak_fit_inliers and explains confirm_inlier_ratio of the
   // rays reaching the model: the next frame refines from there rather than from the detection
   // (it counts neither as a hit nor towards fit support). In the detector demo the screwdriver
-  // at 2.6-2.8 m shows 5-15 rays, its detections are 7-15 cm off along its axis, and each fit
-  // gets half way to it before the next detection reset the track.
+  // at 2.6-2.8 m shows 5-15 rays and its detections are 7-15 cm off along its axis: each fit
+  // got half way to it, and the next detection put the track back.
   int min_weak_fit_inliers = 6;
   // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
   // a track's good fits, i.e. the share of the rays reaching its model that its measurements
