@@ -49,6 +49,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
                           "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
     EXPECT_TRUE(has(j, key)) << key;
   EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 | 2 |"));
+  EXPECT_TRUE(has(r.markdown(), " | 0.500 |\n")) << "recall with 3 digits (the goal is 0.99)\n" << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
 }
 

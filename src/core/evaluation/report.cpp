@@ -175,7 +175,8 @@ std::string EvaluationReport::markdown() const {
     << "|---|---|---|---|---|---|---|---|---|---|\n";
   const auto row = [&](const std::string& id, const std::string& c, const ObjectStats& s) {
     o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | " << s.out_of_view << " | "
-      << mean(s.add_s) << " | " << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | " << s.recall() << " |\n";
+      << mean(s.add_s) << " | " << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | "
+      << std::setprecision(3) << s.recall() << std::setprecision(2) << " |\n";  // the goal is 0.99: 3 digits
   };
   for (const auto& [id, s] : per) row(id, cls[id], s);
   row("**all**", "", all);
