@@ -1,10 +1,9 @@
 #include "scene_graph_tracker/registration/ray_correspondences.hpp"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include "scene_graph_tracker/geometry/rigid.hpp"
+#include "scene_graph_tracker/registration/tile_order.hpp"
 
 namespace sgt {
 
@@ -25,33 +24,22 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, con
   // A surface beyond the measurement plus the threshold cannot pair with it: rays stop there.
   scene.cast(*m.rays, m.T_world_sensor, hits, &tiles, CastLimit{&m.range, max_dist});
 
-  struct Local {
-    std::vector<std::vector<RayPair>> pairs;
-    std::vector<int> expected;
-  };
-  tbb::enumerable_thread_specific<Local> locals([&] { return Local{std::vector<std::vector<RayPair>>(n_groups),
-                                                                   std::vector<int>(n_groups, 0)}; });
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
   const SensorRays& rays = *m.rays;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.tiles().size(), 32), [&](const auto& block) {
-    Local& local = locals.local();
-    for (std::size_t b = block.begin(); b != block.end(); ++b)
-      tiles.forTile(rays, b, [&](int, std::size_t i) {
-        const int g = groups(hits.node[i]);
-        if (g < 0 || !m.valid(i)) return;
-        ++local.expected[g];
-        if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
-        const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
-        local.pairs[g].push_back(
-            {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
-      });
+  std::vector<int> expected(n_groups, 0);
+  collectInTileOrder(tiles.tiles().size(), out, &expected, [&](std::size_t b, auto& pairs, int* count) {
+    tiles.forTile(rays, b, [&](int, std::size_t i) {
+      const int g = groups(hits.node[i]);
+      if (g < 0 || !m.valid(i)) return;
+      ++count[g];
+      if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
+      const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
+      pairs[g].push_back(
+          {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
+    });
   });
-  for (Local& local : locals)
-    for (int g = 0; g < n_groups; ++g) {
-      out[g].insert(out[g].end(), local.pairs[g].begin(), local.pairs[g].end());
-      if (stats) stats->expected[g] += local.expected[g];
-    }
+  if (stats) stats->expected = std::move(expected);
   return out;
 }
 
@@ -88,7 +76,8 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const st
     out.g += g.cast<double>();
   };
   const std::size_t n = moving.size();
-  const Sums sums = tbb::parallel_reduce(
+  // Split and combined the same way in every run (simple partitioner), so the sums repeat exactly.
+  const Sums sums = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, n, kChunk), Sums{},
       [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
         for (std::size_t b = r.begin(); b < r.end(); b += kChunk) chunk(b, std::min(r.end(), b + kChunk), acc);

@@ -1,7 +1,6 @@
 #include "scene_graph_tracker/registration/unexplained_pairs.hpp"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
+#include "scene_graph_tracker/registration/tile_order.hpp"
 
 namespace sgt {
 
@@ -21,37 +20,31 @@ std::vector<std::vector<RayPair>> collectUnexplainedPairs(const RaycastScene& sc
     boxes[k] = Eigen::AlignedBox3f(extents[k].box.min() - Eigen::Vector3f::Constant(o.box_margin),
                                    extents[k].box.max() + Eigen::Vector3f::Constant(o.box_margin));
   }
-  tbb::enumerable_thread_specific<std::vector<std::vector<RayPair>>> locals(
-      [&] { return std::vector<std::vector<RayPair>>(n_obj); });
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f origin = m.T_world_sensor.translation().cast<float>();
   const SensorRays& rays = *m.rays;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.tiles().size(), 32), [&](const auto& block) {
-    auto& local = locals.local();
-    for (std::size_t b = block.begin(); b != block.end(); ++b)
-      tiles.forTile(rays, b, [&](int, std::size_t i) {
-        if (!m.valid(i)) return;
-        const float r = m.range[i];
-        if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold) return;  // ray pair
-        if (!(hits.range[i] > r + o.front_margin)) return;  // explained, or behind the predicted surface
-        const Eigen::Vector3f ray_origin = rays.origins.empty() ? origin : Eigen::Vector3f(origin + R * rays.origins[i]);
-        const Eigen::Vector3f p = ray_origin + R * (rays.directions[i] * r);
-        int best = -1;
-        float radius = o.radius;
-        SurfacePoint closest{}, candidate{};
-        for (int k = 0; k < n_obj; ++k) {
-          const Eigen::Vector3f q = T_object_world[k] * p;
-          if (!boxes[k].contains(q) || !scene.closestPoint(meshes[k], q, radius, candidate)) continue;
-          best = k, radius = candidate.distance, closest = candidate;
-        }
-        if (best < 0) return;
-        const Eigen::Isometry3d& T = extents[best].T_world_object;
-        local[best].push_back({p, (T.cast<float>() * closest.point), T.linear().cast<float>() * closest.normal,
-                               static_cast<std::uint32_t>(i)});
-      });
+  collectInTileOrder(tiles.tiles().size(), out, nullptr, [&](std::size_t b, auto& local, int*) {
+    tiles.forTile(rays, b, [&](int, std::size_t i) {
+      if (!m.valid(i)) return;
+      const float r = m.range[i];
+      if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold) return;  // ray pair
+      if (!(hits.range[i] > r + o.front_margin)) return;  // explained, or behind the predicted surface
+      const Eigen::Vector3f ray_origin = rays.origins.empty() ? origin : Eigen::Vector3f(origin + R * rays.origins[i]);
+      const Eigen::Vector3f p = ray_origin + R * (rays.directions[i] * r);
+      int best = -1;
+      float radius = o.radius;
+      SurfacePoint closest{}, candidate{};
+      for (int k = 0; k < n_obj; ++k) {
+        const Eigen::Vector3f q = T_object_world[k] * p;
+        if (!boxes[k].contains(q) || !scene.closestPoint(meshes[k], q, radius, candidate)) continue;
+        best = k, radius = candidate.distance, closest = candidate;
+      }
+      if (best < 0) return;
+      const Eigen::Isometry3d& T = extents[best].T_world_object;
+      local[best].push_back({p, (T.cast<float>() * closest.point), T.linear().cast<float>() * closest.normal,
+                             static_cast<std::uint32_t>(i)});
+    });
   });
-  for (auto& local : locals)
-    for (int k = 0; k < n_obj; ++k) out[k].insert(out[k].end(), local[k].begin(), local[k].end());
   return out;
 }
 
