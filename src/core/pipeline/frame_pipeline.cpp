@@ -207,6 +207,12 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
                              t.fit_support >= options_.min_fit_support;
       if (confirmed && o.state == TrackState::kTentative)
         needs_orientation_.push_back(o.id);  // a real object now: is its rotation the right one?
+      // A confirmed track whose fits keep leaving a share of its rays unexplained may be turned
+      // (research_below_fit_support): it is searched again, every orientation_search_interval_s.
+      if (o.state == TrackState::kConfirmed && !child && t.fit_support < options_.research_below_fit_support &&
+          stamp - t.last_orientation_search >= options_.orientation_search_interval_s &&
+          std::find(needs_orientation_.begin(), needs_orientation_.end(), o.id) == needs_orientation_.end())
+        needs_orientation_.push_back(o.id);
       if (confirmed || o.state == TrackState::kLost) o.state = TrackState::kConfirmed;
     } else {
       // Coast on the prediction. Evidence of absence: the object should show points (rays reach
