@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <tuple>
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/geometry/building.hpp"
@@ -292,6 +293,14 @@ TEST(FramePipeline, ATrackSunkIntoTheMapGoesEvenUnseen) {
   EXPECT_GT(longestRelayTrackBehindTheRobot(-0.04, 1.0), 1.9) << "without the rule";
 }
 
+// The robot `distance` m in front of the bench, facing it, and its camera (1.25 m high) looking
+// at the bench top: T_map_base, T_map_camera.
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const test::BenchScene& bench, double distance) {
+  const Eigen::Isometry3d T_map_base =
+      test::poseXyzYaw(bench.top + Eigen::Vector3d(0.0, distance, -bench.top.z()), -M_PI / 2);
+  return {T_map_base, opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench.top)};
+}
+
 // A QVGA depth image (the Xtion at 320 x 240): a quarter of the rays on an object.
 PinholeModel qvgaCam() {
   PinholeModel cam = PinholeModel::xtion();
@@ -308,9 +317,7 @@ PinholeModel qvgaCam() {
 // Returns the track's mean translation error over the last 0.5 s of 1.5 s.
 double farScrewdriverError(int min_weak_fit_inliers, int* fewest_inliers) {
   const auto bench = test::benchScene();
-  const Eigen::Isometry3d T_map_base =
-      test::poseXyzYaw(bench->top + Eigen::Vector3d(0.0, 2.8, -bench->top.z()), -M_PI / 2);
-  const Eigen::Isometry3d T_camera = opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench->top);
+  const auto [T_map_base, T_camera] = facingTheBench(*bench, 2.8);
   const PinholeModel cam = qvgaCam();
   const auto rays = std::make_shared<SensorRays>(makeRays(cam));
   const SimulatedScan scan = simulate(*bench->world, *rays, T_camera);
@@ -370,8 +377,7 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   std::vector<View> views;
   for (double distance : {2.8, 1.1}) {
     View v;
-    v.T_map_base = test::poseXyzYaw(bench->top + Eigen::Vector3d(0.0, distance, -bench->top.z()), -M_PI / 2);
-    v.T_camera = opticalLookAt(v.T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench->top);
+    std::tie(v.T_map_base, v.T_camera) = facingTheBench(*bench, distance);
     v.scan = simulate(*bench->world, distance > 2.0 ? *far_rays : *rays, v.T_camera);
     views.push_back(std::move(v));
   }
