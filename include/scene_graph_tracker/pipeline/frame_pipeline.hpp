@@ -229,7 +229,6 @@ class FramePipeline {
     double absent_since = -1.0;  // < 0: no evidence of absence
     double sunk_since = -1.0;    // < 0: not inside the static map
     double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
-    bool placed_by_fit = false;  // tentative, at its last weak fit (min_weak_fit_inliers)
     double last_orientation_search = -1e9;
     // Where a lost track coasted when a detection restarted it: the orientation search weighs it
     // against the detection (a hidden object seldom moved; the detector's pose of a thin one is
@@ -253,6 +252,13 @@ class FramePipeline {
   // min_fit_support).
   bool unsupported(const Track& t) const {
     return !isChild(t.out.node) && t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support;
+  }
+  // A tentative track (not a child) whose last fit had too few points but min_weak_fit_inliers
+  // explaining confirm_inlier_ratio of its rays: that fit places it, and no detection resets it.
+  bool placedByWeakFit(const Track& t) const {
+    const ObjectQuality& q = t.out.quality;
+    return !isChild(t.out.node) && t.out.state == TrackState::kTentative && q.status == RefineStatus::kTooFewPoints &&
+           q.inliers >= options_.min_weak_fit_inliers && q.inlier_ratio >= options_.confirm_inlier_ratio;
   }
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;

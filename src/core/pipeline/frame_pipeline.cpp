@@ -143,7 +143,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
     t.out.last_hypothesis = stamp;
     ++t.out.detections;
     // Lost its fit: start again from the detection (unless a weak fit placed it: min_weak_fit_inliers).
-    if (t.out.quality.status != RefineStatus::kOk && !t.placed_by_fit) {
+    if (t.out.quality.status != RefineStatus::kOk && !placedByWeakFit(t)) {
       if (t.out.state == TrackState::kLost) t.before_restart = t.out.T_map_object;
       t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
       t.out.T_map_object = in_map[h];
@@ -174,12 +174,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     const bool child = isChild(o.node);
     // A tentative track's fit from too few points that explains most of its rays places it
     // (min_weak_fit_inliers): no hit, no fit support, but the next frame starts from there.
-    const bool weak_fit = !child && o.state == TrackState::kTentative &&
-                          o.quality.status == RefineStatus::kTooFewPoints &&
-                          o.quality.inliers >= options_.min_weak_fit_inliers &&
-                          o.quality.inlier_ratio >= options_.confirm_inlier_ratio;
-    t.placed_by_fit = weak_fit;
-    if (weak_fit) {
+    if (placedByWeakFit(t)) {
       t.filter = PoseFilter(r.objects[k].T_world_object, C_follow, options_.motion);
       o.T_map_object = r.objects[k].T_world_object;
       t.absent_since = -1.0;
