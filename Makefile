@@ -50,13 +50,19 @@ MODEL_DIR ?= $(BUILD)/model
 MODEL_MINUTES ?= 80
 MODEL_TRAIN_IMAGES ?= 6000
 MODEL_VAL_IMAGES ?= 400
+MODEL_TRAIN_SEED ?= 1
+MODEL_MAX_DISTANCE ?= 2.5
+MODEL_LR ?= 3e-3
+# MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
+MODEL_INIT ?=
 model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
-	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed 1
-	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2
+	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
+	  --max-distance $(MODEL_MAX_DISTANCE)
+	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
-	  --minutes $(MODEL_MINUTES) --output models/sgt_keypoints.onnx --checkpoint-dir $(MODEL_DIR)/checkpoints \
-	  2>&1 | tee $(MODEL_DIR)/train.log
+	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output models/sgt_keypoints.onnx \
+	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
 	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model models/sgt_keypoints.yaml --output $(MODEL_DIR)/eval \
 	  --write-thresholds
 

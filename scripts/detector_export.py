@@ -54,6 +54,15 @@ def export(net, path, size):
         raise RuntimeError("OpenCV's output differs from torch's")
 
 
+def read_training(path):
+    """The training block of a model's metadata yaml; total_minutes counts warm-started runs too."""
+    import yaml
+    with open(path) as f:
+        training = (yaml.safe_load(f) or {}).get("training") or {}
+    training.setdefault("total_minutes", training.get("minutes", 0.0))
+    return training
+
+
 def write_metadata(path, size, nk, training):
     lines = [
         "# Keypoint detector (scripts/train_detector.py). Output (1, 4 + nc + 3K, N) as ultralytics YOLOv8-pose:",

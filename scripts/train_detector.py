@@ -8,6 +8,7 @@ Wall-clock budget (--minutes) with a cosine learning rate over it; a checkpoint 
 best by validation loss is exported (opset 11, static 1x3x320x320) with models/sgt_keypoints.yaml.
 """
 import argparse
+import itertools
 import math
 import os
 import sys
@@ -17,7 +18,8 @@ import torch
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from detector_data import KeypointDataset, collate  # noqa: E402
-from detector_export import NAMES, export, write_metadata  # noqa: E402
+from detector_export import NAMES, export, read_training, write_metadata  # noqa: E402
+from detector_init import calibrate, load_onnx  # noqa: E402
 from detector_loss import DetectorLoss, decode_boxes, flatten, giou  # noqa: E402
 from detector_model import KeypointNet  # noqa: E402
 
@@ -86,6 +88,7 @@ def main():
     ap.add_argument("--train-size", type=int, default=256,
                     help="training canvas (multiple of 32; smaller is faster; objects keep the scale of the 320 input)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--init", metavar="ONNX", help="start from this exported model (its .yaml beside it) instead of random")
     ap.add_argument("--export-only", metavar="CHECKPOINT", help="export CHECKPOINT (a .pt of this script) and stop")
     args = ap.parse_args()
     if args.export_only:
@@ -105,6 +108,12 @@ def main():
     net = KeypointNet(len(NAMES), NK, SIZE).to(memory_format=torch.channels_last)
     criterion = DetectorLoss(len(NAMES), NK, args.train_size)
     val_criterion = DetectorLoss(len(NAMES), NK, SIZE)
+    init_minutes = 0.0
+    if args.init:
+        calibrate(net, load_onnx(net, args.init), itertools.islice(loader, 20), to_input)
+        init_minutes = float(read_training(os.path.splitext(args.init)[0] + ".yaml").get("total_minutes", 0.0))
+        print(f"init: {args.init} ({init_minutes:.1f} min of training before), val {fmt(evaluate(net, val_loader, val_criterion))}",
+              flush=True)
     decay = [p for n, p in net.named_parameters() if p.ndim > 1]
     no_decay = [p for n, p in net.named_parameters() if p.ndim <= 1]
     opt = torch.optim.AdamW([{"params": decay, "weight_decay": 5e-4}, {"params": no_decay, "weight_decay": 0.0}], lr=args.lr)
@@ -162,7 +171,8 @@ def main():
     export(net, args.output, SIZE)
     write_metadata(os.path.splitext(args.output)[0] + ".yaml", SIZE, NK, {
         "images": len(train), "val_images": len(val), "epochs": epoch, "steps": step, "batch": args.batch,
-        "train_canvas": args.train_size, "minutes": round(minutes, 1), "best_epoch": state["epoch"],
+        "train_canvas": args.train_size, "minutes": round(minutes, 1), "init": args.init or "random",
+        "total_minutes": round(init_minutes + minutes, 1), "best_epoch": state["epoch"],
         "train_loss": round(state["train"]["total"], 4), "val_loss": round(state["val"]["total"], 4),
         "val_recall": round(state["val"]["recall"], 3), "val_keypoint_px": round(state["val"]["kpt_px"], 2)})
     print(f"done: {epoch} epochs, {step} steps, {minutes:.1f} min; best epoch {state['epoch']} "

@@ -1,7 +1,7 @@
 // Renders a labelled training set for the keypoint detector (YOLOv8-pose layout, DOPE cuboid
 // keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
 //
-//   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--mesh-dir D]
+//   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M] [--mesh-dir D]
 //
 // DIR/images/000123.png   640x480 RGB
 // DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
@@ -45,6 +45,7 @@ struct Args {
   std::string output, mesh_dir;
   std::size_t count = 0;
   std::uint32_t seed = 1;
+  double max_distance = 2.5;
 };
 
 struct Rng {
@@ -85,7 +86,8 @@ struct Placed {
 
 class DatasetRenderer {
  public:
-  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed) : catalog_(catalog), seed_(seed) {
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance)
+      : catalog_(catalog), seed_(seed), max_distance_(max_distance) {
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2, b.target_triangles = 80000, b.seed = seed;
     building_ = sgt::makeBuilding(b);
@@ -129,6 +131,7 @@ class DatasetRenderer {
 
   const sgt::ObjectCatalog& catalog_;
   std::uint32_t seed_;
+  double max_distance_;  // camera to the objects' centre, from 0.5 m
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -234,10 +237,10 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
   }
 }
 
-// 0.5-2.5 m from a point near the objects, looking down 10-60 degrees, some roll.
+// 0.5 m to max_distance_ from a point near the objects, looking down 10-60 degrees, some roll.
 Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
   for (int attempt = 0;; ++attempt) {
-    const double d = rng.uniform(0.5, 2.5), el = rng.uniform(10.0, 60.0) * M_PI / 180.0, az = rng.uniform(0, 2 * M_PI);
+    const double d = rng.uniform(0.5, max_distance_), el = rng.uniform(10.0, 60.0) * M_PI / 180.0, az = rng.uniform(0, 2 * M_PI);
     const Vector3d eye = target + d * Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
     const bool inside = !in_building_ || (eye.x() > room_.min().x() + 0.15 && eye.x() < room_.max().x() - 0.15 &&
                                           eye.y() > room_.min().y() + 0.15 && eye.y() < room_.max().y() - 0.15 &&
@@ -338,10 +341,11 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
 }
 
 void usage(std::ostream& os) {
-  os << "usage: render_dataset --output DIR --count N [--seed S] [--mesh-dir D]\n"
+  os << "usage: render_dataset --output DIR --count N [--seed S] [--max-distance M] [--mesh-dir D]\n"
         "  --output    dataset directory (images/, labels/, poses/, dataset.yaml)\n"
         "  --count     number of images\n"
         "  --seed      random seed (default 1); the same seed renders the same images\n"
+        "  --max-distance  camera distances are drawn from 0.5 m to M (default 2.5)\n"
         "  --mesh-dir  use the meshes in D for the catalog classes\n";
 }
 
@@ -358,15 +362,16 @@ int main(int argc, char** argv) {
     else if (a == "--count") args.count = std::stoul(v);
     else if (a == "--seed") args.seed = static_cast<std::uint32_t>(std::stoul(v));
     else if (a == "--mesh-dir") args.mesh_dir = v;
+    else if (a == "--max-distance") args.max_distance = std::stod(v);
     else return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
-  if (args.output.empty() || args.count == 0) return usage(std::cerr), 2;
+  if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5)) return usage(std::cerr), 2;
   try {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog =
         sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
-    DatasetRenderer renderer(catalog, args.seed);
+    DatasetRenderer renderer(catalog, args.seed, args.max_distance);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       renderer.render(i, dir);
@@ -374,7 +379,8 @@ int main(int argc, char** argv) {
     }
     bar.finish();
     std::ofstream yaml(dir / "dataset.yaml");
-    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << "\npath: " << dir.string()
+    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << " --max-distance " << args.max_distance
+         << "\npath: " << dir.string()
          << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
     for (std::size_t c = 0; c < kClasses.size(); ++c) yaml << "  " << c << ": " << kClasses[c] << "\n";
   } catch (const std::exception& e) {
