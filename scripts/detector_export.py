@@ -28,9 +28,12 @@ def drop_identities(model):
 
 
 def export(net, path, size):
+    """size: the input's side, or (width, height); the net's grids must have been made for it."""
+    from detector_model import input_size
+    w, h = input_size(size)
     net = net.eval()
     net.decode = True
-    x = torch.rand(1, 3, size, size)
+    x = torch.rand(1, 3, h, w)
     with torch.no_grad():
         ref = net(x).numpy()
     torch.onnx.export(net, x, path, opset_version=11, do_constant_folding=True, input_names=["images"],
@@ -64,13 +67,15 @@ def read_training(path):
 
 
 def write_metadata(path, size, nk, training):
+    from detector_model import input_size
+    w, h = input_size(size)
     lines = [
         "# Keypoint detector (scripts/train_detector.py). Output (1, 4 + nc + 3K, N) as ultralytics YOLOv8-pose:",
         "# box cx, cy, w, h in input pixels, nc sigmoid scores, K x (x, y in input pixels, visibility sigmoid);",
         "# anchors over strides 8, 16, 32, no NMS. Input: RGB, float = uint8 * scale, no mean, letterboxed",
         "# (centred, pad grey 114). Keypoint pixels are continuous (a pixel's centre at +0.5).",
-        f"input_width: {size}",
-        f"input_height: {size}",
+        f"input_width: {w}",
+        f"input_height: {h}",
         f"names: [{', '.join(NAMES)}]",
         f"keypoints: {nk}",
         "keypoint_order: dope_cuboid",

@@ -69,9 +69,10 @@ class KeypointNet(nn.Module):
         self.out32 = nn.Sequential(conv(c4 + c5, c5, 1), conv(c5, c5))
         self.heads = nn.ModuleList([Head(c3, head, nc, nk), Head(c4, head, nc, nk), Head(c5, head, nc, nk)])
         self.decode = False  # True for the export: emit the YOLOv8-pose layout
+        w, h = input_size(size)
         for s in STRIDES:
-            n = size // s
-            ys, xs = torch.meshgrid(torch.arange(n, dtype=torch.float32), torch.arange(n, dtype=torch.float32), indexing="ij")
+            ys, xs = torch.meshgrid(torch.arange(h // s, dtype=torch.float32), torch.arange(w // s, dtype=torch.float32),
+                                    indexing="ij")
             g = torch.stack([xs + 0.5, ys + 0.5]).repeat(1 + nk, 1, 1).unsqueeze(0)  # (1, 2 + 2K, n, n)
             self.register_buffer(f"grid{s}", g, persistent=False)
         self.register_buffer("order", output_order(nc, nk), persistent=False)
@@ -122,12 +123,18 @@ def output_order(nc, nk):
     return w
 
 
+def input_size(size):
+    """(width, height) of an input given as one side (square) or as (width, height)."""
+    return (size, size) if isinstance(size, int) else tuple(size)
+
+
 def anchor_centres(size=320):
     """(N, 2) anchor centres in input pixels and (N,) strides, in the output's order."""
     cs, ss = [], []
+    w, h = input_size(size)
     for s in STRIDES:
-        n = size // s
-        ys, xs = torch.meshgrid(torch.arange(n, dtype=torch.float32), torch.arange(n, dtype=torch.float32), indexing="ij")
+        ys, xs = torch.meshgrid(torch.arange(h // s, dtype=torch.float32), torch.arange(w // s, dtype=torch.float32),
+                                indexing="ij")
         cs.append(torch.stack([xs.reshape(-1) + 0.5, ys.reshape(-1) + 0.5], 1) * s)
-        ss.append(torch.full((n * n,), float(s)))
+        ss.append(torch.full((xs.numel(),), float(s)))
     return torch.cat(cs), torch.cat(ss)

@@ -66,6 +66,22 @@ class WarmStart(unittest.TestCase):
             for a, b in ((p, pe), (s, se), (l, le)):
                 self.assertLess(float((a - b).abs().max()), 1e-2)
 
+    def test_the_weights_export_for_another_input_size(self):
+        import tempfile
+        import cv2
+        from detector_export import export
+        torch.manual_seed(3)
+        net = KeypointNet(5, 9, (384, 288))
+        load_onnx(net, MODEL)  # eval mode needs no calibration
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "wide.onnx")
+            export(net, path, (384, 288))  # raises when OpenCV's output differs from torch's
+            reader = cv2.dnn.readNetFromONNX(path)
+            reader.setInput(np.random.rand(1, 3, 288, 384).astype(np.float32))
+            out = reader.forward()
+        anchors = sum((384 // s) * (288 // s) for s in (8, 16, 32))
+        self.assertEqual(out.shape, (1, 4 + 5 + 3 * 9, anchors))
+
     def test_a_model_of_another_shape_is_refused_with_the_shapes(self):
         net = KeypointNet(5, 9, 320, head=32)
         with self.assertRaises(RuntimeError) as err:
