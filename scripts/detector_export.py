@@ -85,7 +85,7 @@ def write_metadata(path, size, nk, training):
         "strides: [8, 16, 32]",
         "training:",
     ]
-    training = dict(training, date=datetime.datetime.utcnow().strftime("%Y-%m-%dT%H:%MZ"))
+    training = dict({"date": datetime.datetime.utcnow().strftime("%Y-%m-%dT%H:%MZ")}, **training)  # a re-export keeps it
     lines += [f"  {k}: {v}" for k, v in training.items()]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -6,6 +6,12 @@
 
 Wall-clock budget (--minutes) with a cosine learning rate over it; a checkpoint each epoch, the
 best by validation loss is exported (opset 11, static 1x3x320x320) with models/sgt_keypoints.yaml.
+--init MODEL.onnx starts from an exported model instead of random weights (detector_init.py).
+
+  /usr/bin/python3 scripts/train_detector.py --export-only models/sgt_keypoints.onnx --export-size 384x288 \
+      --output /tmp/wide.onnx
+
+re-exports a checkpoint (.pt) or an exported model (.onnx + .yaml) for another input size.
 """
 import argparse
 import itertools
@@ -77,8 +83,8 @@ def fmt(d):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--train", required=True)
-    ap.add_argument("--val", required=True)
+    ap.add_argument("--train")
+    ap.add_argument("--val")
     ap.add_argument("--minutes", type=float, default=60.0)
     ap.add_argument("--output", default="models/sgt_keypoints.onnx")
     ap.add_argument("--checkpoint-dir", default="build/model/checkpoints")
@@ -89,14 +95,34 @@ def main():
                     help="training canvas (multiple of 32; smaller is faster; objects keep the scale of the 320 input)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--init", metavar="ONNX", help="start from this exported model (its .yaml beside it) instead of random")
-    ap.add_argument("--export-only", metavar="CHECKPOINT", help="export CHECKPOINT (a .pt of this script) and stop")
+    ap.add_argument("--export-only", metavar="MODEL",
+                    help="export MODEL (a .pt checkpoint of this script, or an exported .onnx with its .yaml) and stop")
+    ap.add_argument("--export-size", metavar="WxH", default=f"{SIZE}x{SIZE}",
+                    help="input size of the --export-only model (default %(default)s; the network is fully convolutional)")
     args = ap.parse_args()
     if args.export_only:
-        state = torch.load(args.export_only)
-        net = KeypointNet(len(NAMES), NK, SIZE)
-        net.load_state_dict(state["model"])
-        export(net, args.output, SIZE)
+        size = tuple(int(v) for v in args.export_size.lower().split("x"))
+        if len(size) != 2 or any(v <= 0 or v % 32 for v in size):
+            ap.error(f"--export-size {args.export_size}: width x height, multiples of 32")
+        net = KeypointNet(len(NAMES), NK, size)
+        if args.export_only.endswith(".onnx"):
+            load_onnx(net, args.export_only)  # eval mode: the folded weights as they are
+            training = read_training(os.path.splitext(args.export_only)[0] + ".yaml")
+        else:
+            state = torch.load(args.export_only)
+            net.load_state_dict(state["model"])
+            training = {"checkpoint": args.export_only, "epoch": state["epoch"]}
+        export(net, args.output, size)
+        yaml_out = os.path.splitext(args.output)[0] + ".yaml"
+        write_metadata(yaml_out, size, NK, dict(training, exported_from=args.export_only))
+        if args.export_only.endswith(".onnx"):  # the same weights keep their per-class score thresholds
+            with open(os.path.splitext(args.export_only)[0] + ".yaml") as f:
+                kept = [line for line in f if line.startswith(("score_thresholds:", "# score_thresholds:"))]
+            with open(yaml_out, "a") as f:
+                f.writelines(kept)
         return
+    if not args.train or not args.val:
+        ap.error("--train and --val are needed to train")
 
     torch.set_num_threads(2)
     torch.manual_seed(args.seed)
