@@ -44,10 +44,10 @@ def load_onnx(net, path):
         if not isinstance(m, nn.Conv2d):
             continue
         if name not in convs:
-            raise RuntimeError(f"--init {path}: no convolution for {name}")
+            raise RuntimeError(f"model {path}: no convolution for {name}")
         w, b = convs[name]
         if tuple(w.shape) != tuple(m.weight.shape):
-            raise RuntimeError(f"--init {path}: {name} has shape {tuple(w.shape)}, the model {tuple(m.weight.shape)}")
+            raise RuntimeError(f"model {path}: {name} has shape {tuple(w.shape)}, the network {tuple(m.weight.shape)}")
         used.add(name)
         with torch.no_grad():
             m.weight.copy_(w)
@@ -61,7 +61,7 @@ def load_onnx(net, path):
             pending[bn] = b.clone()
     unused = set(convs) - used
     if unused:
-        raise RuntimeError(f"--init {path}: convolutions the model does not have: {sorted(unused)}")
+        raise RuntimeError(f"model {path}: convolutions the network does not have: {sorted(unused)}")
     return pending
 
 

@@ -86,7 +86,7 @@ class WarmStart(unittest.TestCase):
         net = KeypointNet(5, 9, 320, head=32)
         with self.assertRaises(RuntimeError) as err:
             load_onnx(net, MODEL)
-        self.assertIn("heads.0.box.0 has shape (48, 48, 3, 3), the model (32, 48, 3, 3)", str(err.exception))
+        self.assertIn("heads.0.box.0 has shape (48, 48, 3, 3), the network (32, 48, 3, 3)", str(err.exception))
 
 
 def write_junit(result, cases, seconds, path):
