@@ -104,10 +104,13 @@ def main():
         size = tuple(int(v) for v in args.export_size.lower().split("x"))
         if len(size) != 2 or any(v <= 0 or v % 32 for v in size):
             ap.error(f"--export-size {args.export_size}: width x height, multiples of 32")
-        net = KeypointNet(len(NAMES), NK, size)
+        net, kept = KeypointNet(len(NAMES), NK, size), []
         if args.export_only.endswith(".onnx"):
             load_onnx(net, args.export_only)  # eval mode: the folded weights as they are
-            training = read_training(os.path.splitext(args.export_only)[0] + ".yaml")
+            source_yaml = os.path.splitext(args.export_only)[0] + ".yaml"
+            training = read_training(source_yaml)
+            with open(source_yaml) as f:  # the same weights keep their per-class score thresholds
+                kept = [line for line in f if line.startswith(("score_thresholds:", "# score_thresholds:"))]
         else:
             state = torch.load(args.export_only)
             net.load_state_dict(state["model"])
@@ -115,11 +118,8 @@ def main():
         export(net, args.output, size)
         yaml_out = os.path.splitext(args.output)[0] + ".yaml"
         write_metadata(yaml_out, size, NK, dict(training, exported_from=args.export_only))
-        if args.export_only.endswith(".onnx"):  # the same weights keep their per-class score thresholds
-            with open(os.path.splitext(args.export_only)[0] + ".yaml") as f:
-                kept = [line for line in f if line.startswith(("score_thresholds:", "# score_thresholds:"))]
-            with open(yaml_out, "a") as f:
-                f.writelines(kept)
+        with open(yaml_out, "a") as f:
+            f.writelines(kept)
         return
     if not args.train or not args.val:
         ap.error("--train and --val are needed to train")

@@ -371,15 +371,15 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   const PinholeModel far_cam = qvgaCam();
   const auto far_rays = std::make_shared<SensorRays>(makeRays(far_cam));
   struct View {
-    Eigen::Isometry3d T_map_base, T_camera;
-    SimulatedScan scan;
+    const PinholeModel* cam;
+    std::shared_ptr<SensorRays> rays;
+    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity(), T_camera = Eigen::Isometry3d::Identity();
+    SimulatedScan scan = {};
   };
-  std::vector<View> views;
-  for (double distance : {2.8, 1.1}) {
-    View v;
-    std::tie(v.T_map_base, v.T_camera) = facingTheBench(*bench, distance);
-    v.scan = simulate(*bench->world, distance > 2.0 ? *far_rays : *rays, v.T_camera);
-    views.push_back(std::move(v));
+  std::vector<View> views{{&far_cam, far_rays}, {&cam, rays}};  // from 2.8 m, then from 1.1 m
+  for (View& v : views) {
+    std::tie(v.T_map_base, v.T_camera) = facingTheBench(*bench, v.cam == &far_cam ? 2.8 : 1.1);
+    v.scan = simulate(*bench->world, *v.rays, v.T_camera);
   }
   PipelineOptions options;
   options.localize = false;
@@ -393,10 +393,7 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
     PipelineFrame frame;
     frame.stamp = f / 30.0;
     frame.T_odom_base = v.T_map_base;
-    if (f < 60)
-      frame.measurements.push_back(fromDepthImage(far_cam, far_rays, depthImage(v.scan, *far_rays), v.T_camera));
-    else
-      frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(v.scan, *rays), v.T_camera));
+    frame.measurements.push_back(fromDepthImage(*v.cam, v.rays, depthImage(v.scan, *v.rays), v.T_camera));
     addDepthNoise(frame.measurements.back(), 0.0015, 1500 + f);
     frame.hypotheses.push_back({"materialbox", v.T_map_base.inverse() * turned, 0.9});
     const PipelineResult r = pipeline.process(frame);

@@ -22,9 +22,8 @@ from detector_init import calibrate, load_onnx, module_name  # noqa: E402
 from detector_model import KeypointNet  # noqa: E402
 
 
-def warm_net(images, **kw):
-    torch.manual_seed(0)
-    net = KeypointNet(5, 9, 320, **kw)
+def warm_net(images):
+    net = KeypointNet(5, 9, 320)
     calibrate(net, load_onnx(net, MODEL), [(images, None)], lambda x: x)
     return net
 
@@ -70,7 +69,6 @@ class WarmStart(unittest.TestCase):
         import tempfile
         import cv2
         from detector_export import export
-        torch.manual_seed(3)
         net = KeypointNet(5, 9, (384, 288))
         load_onnx(net, MODEL)  # eval mode needs no calibration
         with tempfile.TemporaryDirectory() as tmp:
