@@ -53,17 +53,23 @@ MODEL_VAL_IMAGES ?= 400
 MODEL_TRAIN_SEED ?= 1
 MODEL_MAX_DISTANCE ?= 2.5
 MODEL_LR ?= 3e-3
+# The share of bench scenes like the robot's in the train and val renders (render_dataset --bench-fraction)
+MODEL_BENCH_FRACTION ?= 0
+MODEL_VAL_BENCH_FRACTION ?= 0
+# Where the trained model goes (its .yaml beside it); another path keeps the shipped one
+MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
 MODEL_INIT ?=
 model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
-	  --max-distance $(MODEL_MAX_DISTANCE)
-	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE)
+	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION)
+	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
+	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
-	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output models/sgt_keypoints.onnx \
+	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output $(MODEL_OUTPUT) \
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
-	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model models/sgt_keypoints.yaml --output $(MODEL_DIR)/eval \
+	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model $(basename $(MODEL_OUTPUT)).yaml --output $(MODEL_DIR)/eval \
 	  --write-thresholds
 
 clean:

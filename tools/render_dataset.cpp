@@ -1,19 +1,26 @@
 // Renders a labelled training set for the keypoint detector (YOLOv8-pose layout, DOPE cuboid
 // keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
 //
-//   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M] [--mesh-dir D]
+//   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
+//                                             [--bench-fraction F] [--mesh-dir D]
+//
+// Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
+// from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
+// upright side by side on a wooden bench, a person nearby, the camera at head height 0.9-3.4 m
+// away). F = 0 (the default) renders exactly the images of earlier versions.
 //
 // DIR/images/000123.png   640x480 RGB
 // DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
 //                         the image size; box = visible pixels; keypoints in the continuous pixel
 //                         convention (a pixel's centre at +0.5); v 2 inside the image (also when
 //                         occluded), else 0 with x = y = 0
-// DIR/poses/000123.json   camera K and per labelled object its class, T_camera_object and the
-//                         symmetry-canonical pose the keypoints were made from
+// DIR/poses/000123.json   scene kind (bench or random), camera K and per labelled object its class,
+//                         T_camera_object and the symmetry-canonical pose the keypoints were made from
 // DIR/dataset.yaml        ultralytics style
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -46,6 +53,7 @@ struct Args {
   std::size_t count = 0;
   std::uint32_t seed = 1;
   double max_distance = 2.5;
+  double bench_fraction = 0.0;
 };
 
 struct Rng {
@@ -70,10 +78,18 @@ Isometry3d pose(const Eigen::Matrix3d& R, const Vector3d& t) {
 
 Eigen::Matrix3d yaw(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitZ()).toRotationMatrix(); }
 
+// z of the lowest corner of a box turned by R.
+double lowestCorner(const Eigen::Matrix3d& R, const Eigen::AlignedBox3d& box) {
+  double lowest = 1e9;
+  for (int c = 0; c < 8; ++c) lowest = std::min(lowest, (R * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))).z());
+  return lowest;
+}
+
 // Meshes registered once; every image instances some of them.
 struct Library {
-  std::vector<sgt::MeshId> classes, tables, distractors;
-  std::vector<Eigen::AlignedBox3d> class_boxes, table_boxes;
+  std::vector<sgt::MeshId> classes, tables, distractors, benches, persons;
+  std::vector<Eigen::AlignedBox3d> class_boxes, table_boxes, bench_boxes;
+  std::vector<double> person_heights;
   sgt::MeshId wall = -1;
 };
 
@@ -86,8 +102,8 @@ struct Placed {
 
 class DatasetRenderer {
  public:
-  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance)
-      : catalog_(catalog), seed_(seed), max_distance_(max_distance) {
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance, double bench_fraction)
+      : catalog_(catalog), seed_(seed), max_distance_(max_distance), bench_fraction_(bench_fraction) {
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2, b.target_triangles = 80000, b.seed = seed;
     building_ = sgt::makeBuilding(b);
@@ -115,6 +131,16 @@ class DatasetRenderer {
       lib_.distractors.push_back(scene_.addMesh(m));
     }
     lib_.wall = scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(Vector3f(40.0f, 40.0f, 0.02f))));
+    // Bench scenes: workbench-sized tables (the demo's is 1.6 x 0.8 x 0.75 m) and people.
+    for (const Vector3f& size : {Vector3f(1.6f, 0.8f, 0.75f), Vector3f(1.2f, 0.7f, 0.72f), Vector3f(2.0f, 0.9f, 0.9f),
+                                Vector3f(1.4f, 0.6f, 0.8f), Vector3f(1.8f, 0.75f, 0.78f)}) {
+      lib_.benches.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
+      lib_.bench_boxes.emplace_back(-0.5 * size.cast<double>(), 0.5 * size.cast<double>());
+    }
+    for (const double h : {1.6, 1.75, 1.9}) {
+      lib_.persons.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeCylinder(0.25f, static_cast<float>(h), 48))));
+      lib_.person_heights.push_back(h);
+    }
     colours_.static_map = kMapNode;
     camera_.width = 640, camera_.height = 480;
   }
@@ -122,9 +148,14 @@ class DatasetRenderer {
   void render(std::size_t index, const fs::path& dir);
 
  private:
-  Vector3d placeSupport(Rng& rng, double& top, Eigen::Vector2d& half);
+  Vector3d placeSupport(Rng& rng, double& top, Eigen::Vector2d& half, bool bench);
   void placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half);
+  void placeBenchObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half);
+  void addObject(Rng& rng, int cls, sgt::NodeId node, const Isometry3d& T_world_object, double random_colour, double jitter);
   Isometry3d placeCamera(Rng& rng, const Vector3d& target);
+  Isometry3d placeBenchCamera(Rng& rng, const Vector3d& target, double top);
+  void placePerson(Rng& rng, const Vector3d& centre, double top);
+  bool insideRoom(const Vector3d& eye) const;
   void clear();
   void writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
                    const sgt::SimulatedScan& scan);
@@ -132,6 +163,8 @@ class DatasetRenderer {
   const sgt::ObjectCatalog& catalog_;
   std::uint32_t seed_;
   double max_distance_;  // camera to the objects' centre, from 0.5 m
+  double bench_fraction_;
+  bool bench_ = false;  // the current image is a bench scene
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -150,10 +183,11 @@ void DatasetRenderer::clear() {
   colours_.albedo.clear();
 }
 
-// A table (or the bare floor) in a random building room or in a room of plain coloured walls.
+// A table (or the bare floor) in a random building room or in a room of plain coloured walls;
+// for a bench scene always a bench, mostly wooden and in the building.
 // Returns the centre of the support's top; `half` its half extents in x, y (world, axis-aligned).
-Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& half) {
-  in_building_ = rng.chance(0.5);
+Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& half, bool bench) {
+  in_building_ = rng.chance(bench ? 0.7 : 0.5);
   Vector3d centre;
   if (in_building_) {
     room_ = building_.rooms[rng.integer(0, static_cast<int>(building_.rooms.size()) - 1)];
@@ -178,17 +212,31 @@ Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& h
   }
   top = 0.0;
   half = Eigen::Vector2d(rng.uniform(0.4, 0.8), rng.uniform(0.4, 0.8));
-  if (rng.chance(0.85)) {  // a table; otherwise the objects lie on the floor
-    const int k = rng.integer(0, static_cast<int>(lib_.tables.size()) - 1);
-    const Eigen::AlignedBox3d& b = lib_.table_boxes[k];
+  if (bench || rng.chance(0.85)) {  // a table; otherwise the objects lie on the floor
+    const auto& meshes = bench ? lib_.benches : lib_.tables;
+    const int k = rng.integer(0, static_cast<int>(meshes.size()) - 1);
+    const Eigen::AlignedBox3d& b = bench ? lib_.bench_boxes[k] : lib_.table_boxes[k];
     const bool turned = rng.chance(0.5);  // quarter turns keep the top axis-aligned
     top = b.max().z() - b.min().z();
     half = turned ? Eigen::Vector2d(b.max().y(), b.max().x()) : Eigen::Vector2d(b.max().x(), b.max().y());
-    scene_.addInstance(kTableNode, lib_.tables[k], pose(yaw(turned ? M_PI / 2 : 0.0), centre + Vector3d(0, 0, top / 2)));
-    colours_.albedo[kTableNode] = rng.chance(0.4) ? Vector3f(0.62f, 0.45f, 0.28f) * rng.uniform(0.7, 1.2) : rng.colour();
+    scene_.addInstance(kTableNode, meshes[k], pose(yaw(turned ? M_PI / 2 : 0.0), centre + Vector3d(0, 0, top / 2)));
+    colours_.albedo[kTableNode] =
+        rng.chance(bench ? 0.75 : 0.4) ? Vector3f(0.62f, 0.45f, 0.28f) * rng.uniform(0.7, 1.2) : rng.colour();
     extra_nodes_.push_back(kTableNode);
   }
   return centre + Vector3d(0, 0, top);
+}
+
+// A catalog object in its class colour, varied by up to +-jitter per channel, or with probability
+// random_colour in a random one; labelled.
+void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node, const Isometry3d& T_world_object, double random_colour,
+                                double jitter) {
+  scene_.addInstance(node, lib_.classes[cls], T_world_object);
+  Vector3f c = sgt::sim::classColour(kClasses[cls]);
+  if (rng.chance(random_colour)) c = rng.colour();
+  else c = (c + Vector3f(rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter))).cwiseMax(0.02f).cwiseMin(1.0f);
+  colours_.albedo[node] = c;
+  placed_.push_back({cls, node, T_world_object});
 }
 
 // 1-6 catalog objects (sometimes several of a class): mostly resting on a face in a random yaw,
@@ -196,8 +244,7 @@ Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& h
 void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half) {
   const int n = rng.integer(1, 6);
   auto onSupport = [&](const Eigen::Matrix3d& R, const Eigen::AlignedBox3d& box) {
-    double lowest = 1e9;  // lowest corner of the rotated box
-    for (int c = 0; c < 8; ++c) lowest = std::min(lowest, (R * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))).z());
+    const double lowest = lowestCorner(R, box);
     return Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.9, centre.y() + rng.uniform(-half.y(), half.y()) * 0.9,
                     top - lowest);
   };
@@ -217,13 +264,7 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
     }
     Vector3d t = onSupport(R, lib_.class_boxes[cls]);
     if (R(2, 2) < 0.99 && rng.chance(0.3)) t.z() += rng.uniform(0.0, 0.3);  // held or stacked
-    const sgt::NodeId node = kFirstObjectNode + i;
-    scene_.addInstance(node, lib_.classes[cls], pose(R, t));
-    Vector3f c = sgt::sim::classColour(kClasses[cls]);
-    if (rng.chance(0.15)) c = rng.colour();
-    else c = (c + Vector3f(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1))).cwiseMax(0.02f).cwiseMin(1.0f);
-    colours_.albedo[node] = c;
-    placed_.push_back({cls, node, pose(R, t)});
+    addObject(rng, cls, kFirstObjectNode + i, pose(R, t), 0.15, 0.1);
   }
   const int d = rng.integer(0, 6);
   for (int i = 0; i < d; ++i) {
@@ -237,15 +278,86 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
   }
 }
 
+// 2-6 objects (each class at most once until all five are there) on the bench, most upright as in
+// the catalog in a random yaw, apart from each other; some lifted as if held; 0-3 distractor
+// primitives between them.
+void DatasetRenderer::placeBenchObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half) {
+  std::vector<int> order = {0, 1, 2, 3, 4};
+  std::shuffle(order.begin(), order.end(), rng.g);
+  std::vector<Eigen::Vector3d> taken;  // x, y, footprint radius
+  auto freeSpot = [&](double radius, Vector3d& at) {
+    for (int attempt = 0; attempt < 30; ++attempt) {
+      at = Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.85, centre.y() + rng.uniform(-half.y(), half.y()) * 0.85, 0.0);
+      bool clear = true;
+      for (const auto& o : taken) clear = clear && (at.head<2>() - o.head<2>()).norm() > 0.8 * (radius + o.z());
+      if (clear) return taken.emplace_back(at.x(), at.y(), radius), true;
+    }
+    return false;
+  };
+  const int n = rng.integer(2, 6);
+  for (int i = 0; i < n; ++i) {
+    const int cls = i < 5 ? order[i] : rng.integer(0, 4);
+    Eigen::Matrix3d R = yaw(rng.uniform(0, 2 * M_PI));
+    if (rng.chance(0.15)) R = R * Eigen::AngleAxisd(rng.chance(0.5) ? M_PI / 2 : -M_PI / 2, rng.chance(0.5) ? Vector3d::UnitX() : Vector3d::UnitY());
+    const Eigen::AlignedBox3d& box = lib_.class_boxes[cls];
+    Vector3d t;
+    if (!freeSpot(0.5 * box.sizes().head<2>().norm(), t)) continue;
+    t.z() = top - lowestCorner(R, box) + 0.001;
+    if (rng.chance(0.1)) t.z() += rng.uniform(0.03, 0.3);  // held
+    addObject(rng, cls, kFirstObjectNode + i, pose(R, t), 0.05, 0.06);
+  }
+  const int d = rng.integer(0, 3);
+  for (int i = 0; i < d; ++i) {
+    const int k = rng.integer(0, static_cast<int>(lib_.distractors.size()) - 1);
+    const Eigen::Matrix3d R = yaw(rng.uniform(0, 2 * M_PI));
+    const Eigen::AlignedBox3d box = scene_.mesh(lib_.distractors[k]).boundingBox().cast<double>();
+    Vector3d t;
+    if (!freeSpot(0.5 * box.sizes().head<2>().norm(), t)) continue;
+    t.z() = top - box.min().z() + 0.001;
+    const sgt::NodeId node = kFirstDistractorNode + i;
+    scene_.addInstance(node, lib_.distractors[k], pose(R, t));
+    colours_.albedo[node] = rng.colour();
+    extra_nodes_.push_back(node);
+  }
+}
+
+// A person (a cylinder on the floor) 0.4-1.4 m from the bench's centre, in 40 % of bench scenes.
+void DatasetRenderer::placePerson(Rng& rng, const Vector3d& centre, double top) {
+  if (!rng.chance(0.4)) return;
+  const int k = rng.integer(0, static_cast<int>(lib_.persons.size()) - 1);
+  const double a = rng.uniform(0, 2 * M_PI), r = rng.uniform(0.4, 1.4);
+  const Vector3d at = centre + Vector3d(r * std::cos(a), r * std::sin(a), -top + 0.5 * lib_.person_heights[k]);
+  const sgt::NodeId node = kFirstDistractorNode + 10;
+  scene_.addInstance(node, lib_.persons[k], pose(Eigen::Matrix3d::Identity(), at));
+  colours_.albedo[node] = rng.colour() * 0.6f;
+  extra_nodes_.push_back(node);
+}
+
+bool DatasetRenderer::insideRoom(const Vector3d& eye) const {
+  return !in_building_ || (eye.x() > room_.min().x() + 0.15 && eye.x() < room_.max().x() - 0.15 &&
+                           eye.y() > room_.min().y() + 0.15 && eye.y() < room_.max().y() - 0.15 &&
+                           eye.z() < room_.max().z() - 0.15);
+}
+
+// A robot's head camera: 0.9-3.4 m (horizontal) from a point on the bench, 0.3-0.75 m above its
+// top (at world height `top`; floors are at z = 0), little roll.
+Isometry3d DatasetRenderer::placeBenchCamera(Rng& rng, const Vector3d& target, double top) {
+  for (int attempt = 0;; ++attempt) {
+    const double d = rng.uniform(0.9, 3.4), az = rng.uniform(0, 2 * M_PI);
+    const Vector3d eye(target.x() + d * std::cos(az), target.y() + d * std::sin(az), top + rng.uniform(0.3, 0.75));
+    if (!insideRoom(eye) && attempt < 50) continue;
+    Isometry3d T = sgt::opticalLookAt(eye, target);
+    T.linear() = T.linear() * Eigen::AngleAxisd(rng.uniform(-0.05, 0.05), Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+  }
+}
+
 // 0.5 m to max_distance_ from a point near the objects, looking down 10-60 degrees, some roll.
 Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
   for (int attempt = 0;; ++attempt) {
     const double d = rng.uniform(0.5, max_distance_), el = rng.uniform(10.0, 60.0) * M_PI / 180.0, az = rng.uniform(0, 2 * M_PI);
     const Vector3d eye = target + d * Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    const bool inside = !in_building_ || (eye.x() > room_.min().x() + 0.15 && eye.x() < room_.max().x() - 0.15 &&
-                                          eye.y() > room_.min().y() + 0.15 && eye.y() < room_.max().y() - 0.15 &&
-                                          eye.z() < room_.max().z() - 0.15);
-    if (!inside && attempt < 50) continue;
+    if (!insideRoom(eye) && attempt < 50) continue;
     Isometry3d T = sgt::opticalLookAt(eye, target);
     T.linear() = T.linear() * Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Vector3d::UnitZ()).toRotationMatrix();
     return T;
@@ -254,24 +366,40 @@ Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
 
 void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   Rng rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 2654435761u + index * 40503u + 17u))};
+  // Drawn from its own stream, so that --bench-fraction 0 leaves the random scenes as they were.
+  bench_ = bench_fraction_ > 0.0 && Rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 97u + index * 7919u + 3u))}.chance(bench_fraction_);
+  const bool bench = bench_;
   clear();
   double top = 0.0;
   Eigen::Vector2d half;
-  const Vector3d centre = placeSupport(rng, top, half);
-  placeObjects(rng, top, centre, half);
+  const Vector3d centre = placeSupport(rng, top, half, bench);
+  if (bench) placeBenchObjects(rng, top, centre, half), placePerson(rng, centre, top);
+  else placeObjects(rng, top, centre, half);
   scene_.commit();
   Vector3d target = Vector3d::Zero();
   for (const auto& p : placed_) target += p.T_world_object.translation();
-  target = target / placed_.size() + Vector3d(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.05, 0.1));
-  camera_.fx = camera_.fy = rng.uniform(480.0, 620.0);
-  camera_.cx = 319.5 + rng.uniform(-8, 8), camera_.cy = 239.5 + rng.uniform(-8, 8);
-  const Isometry3d T_world_camera = placeCamera(rng, target);
-
+  if (placed_.empty()) target = centre;
+  else target /= static_cast<double>(placed_.size());
+  Isometry3d T_world_camera;
   sgt::sim::RenderStyle style;
-  style.light_direction = Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2, 1.0)).normalized();
-  style.ambient = rng.uniform(0.15, 0.5), style.diffuse = rng.uniform(0.2, 0.7), style.headlight = rng.uniform(0.0, 0.4);
-  style.background = rng.colour() * 0.3f;
-  style.floor_tile = rng.uniform(0.2, 0.8);
+  if (bench) {  // the demo's camera and light (README, "Scenario format"), a little varied
+    target = Vector3d(target.x() + rng.uniform(-0.3, 0.3), target.y() + rng.uniform(-0.3, 0.3), top + rng.uniform(-0.1, 0.1));
+    camera_.fx = camera_.fy = rng.uniform(500.0, 560.0);
+    camera_.cx = 319.5 + rng.uniform(-4, 4), camera_.cy = 239.5 + rng.uniform(-4, 4);
+    T_world_camera = placeBenchCamera(rng, target, top);
+    style.light_direction = (style.light_direction + Vector3f(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), 0.0f)).normalized();
+    style.ambient = rng.uniform(0.25, 0.45), style.diffuse = rng.uniform(0.3, 0.6), style.headlight = rng.uniform(0.1, 0.35);
+    style.floor_tile = rng.uniform(0.4, 0.6);
+  } else {
+    target += Vector3d(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.05, 0.1));
+    camera_.fx = camera_.fy = rng.uniform(480.0, 620.0);
+    camera_.cx = 319.5 + rng.uniform(-8, 8), camera_.cy = 239.5 + rng.uniform(-8, 8);
+    T_world_camera = placeCamera(rng, target);
+    style.light_direction = Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2, 1.0)).normalized();
+    style.ambient = rng.uniform(0.15, 0.5), style.diffuse = rng.uniform(0.2, 0.7), style.headlight = rng.uniform(0.0, 0.4);
+    style.background = rng.colour() * 0.3f;
+    style.floor_tile = rng.uniform(0.2, 0.8);
+  }
   const sgt::SimulatedScan scan = sgt::simulate(scene_, sgt::makeRays(camera_), T_world_camera);
   const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
   cv::Mat bgr;
@@ -311,7 +439,7 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
   std::ofstream json(dir / "poses" / (std::string(name) + ".json"));
   txt.precision(6), json.precision(9);
   const double W = camera_.width, H = camera_.height;
-  json << "{\"width\": " << camera_.width << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, "
+  json << "{\"scene\": \"" << (bench_ ? "bench" : "random") << "\", \"width\": " << camera_.width << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, "
        << camera_.cx << ", 0, " << camera_.fy << ", " << camera_.cy << ", 0, 0, 1],\n \"objects\": [";
   bool first = true;
   for (const auto& p : placed_) {
@@ -346,6 +474,7 @@ void usage(std::ostream& os) {
         "  --count     number of images\n"
         "  --seed      random seed (default 1); the same seed renders the same images\n"
         "  --max-distance  camera distances are drawn from 0.5 m to M (default 2.5)\n"
+        "  --bench-fraction  this fraction of the images (0-1, default 0) are bench scenes like the robot's\n"
         "  --mesh-dir  use the meshes in D for the catalog classes\n";
 }
 
@@ -363,15 +492,18 @@ int main(int argc, char** argv) {
     else if (a == "--seed") args.seed = static_cast<std::uint32_t>(std::stoul(v));
     else if (a == "--mesh-dir") args.mesh_dir = v;
     else if (a == "--max-distance") args.max_distance = std::stod(v);
+    else if (a == "--bench-fraction") args.bench_fraction = std::stod(v);
     else return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
-  if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5)) return usage(std::cerr), 2;
+  if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5) ||
+      !(args.bench_fraction >= 0.0 && args.bench_fraction <= 1.0))
+    return usage(std::cerr), 2;
   try {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog =
         sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
-    DatasetRenderer renderer(catalog, args.seed, args.max_distance);
+    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       renderer.render(i, dir);
@@ -380,6 +512,7 @@ int main(int argc, char** argv) {
     bar.finish();
     std::ofstream yaml(dir / "dataset.yaml");
     yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << " --max-distance " << args.max_distance
+         << " --bench-fraction " << args.bench_fraction
          << "\npath: " << dir.string()
          << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
     for (std::size_t c = 0; c < kClasses.size(); ++c) yaml << "  " << c << ": " << kClasses[c] << "\n";

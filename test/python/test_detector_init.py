@@ -7,12 +7,11 @@ With --xml a JUnit result for catkin's run_tests (make test) is written.
 """
 import os
 import sys
-import time
 import unittest
-import xml.etree.ElementTree as ET
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 MODEL = os.path.join(ROOT, "models", "sgt_keypoints.onnx")
 
 import numpy as np  # noqa: E402
@@ -20,6 +19,7 @@ import torch  # noqa: E402
 
 from detector_init import calibrate, load_onnx, module_name  # noqa: E402
 from detector_model import KeypointNet  # noqa: E402
+import junit_runner  # noqa: E402
 
 
 def warm_net(images):
@@ -87,25 +87,5 @@ class WarmStart(unittest.TestCase):
         self.assertIn("heads.0.box.0 has shape (48, 48, 3, 3), the network (32, 48, 3, 3)", str(err.exception))
 
 
-def write_junit(result, cases, seconds, path):
-    suite = ET.Element("testsuite", name="detector_init", tests=str(len(cases)), time=f"{seconds:.3f}",
-                       failures=str(len(result.failures)), errors=str(len(result.errors)))
-    bad = {id(t): ("failure", msg) for t, msg in result.failures}
-    bad.update({id(t): ("error", msg) for t, msg in result.errors})
-    for case in cases:
-        el = ET.SubElement(suite, "testcase", classname="DetectorInit", name=case._testMethodName)
-        if id(case) in bad:
-            kind, msg = bad[id(case)]
-            ET.SubElement(el, kind, message=msg.strip().splitlines()[-1]).text = msg
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 if __name__ == "__main__":
-    xml = next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--xml=")), None)
-    cases = list(unittest.defaultTestLoader.loadTestsFromTestCase(WarmStart))
-    start = time.time()
-    result = unittest.TextTestRunner(verbosity=2).run(unittest.TestSuite(cases))
-    if xml:
-        write_junit(result, cases, time.time() - start, xml)
-    sys.exit(0 if result.wasSuccessful() else 1)
+    junit_runner.main("detector_init", WarmStart)

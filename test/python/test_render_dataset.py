@@ -1,0 +1,93 @@
+#!/usr/bin/python3
+"""render_dataset's bench scenes (--bench-fraction) against its random scenes.
+
+  /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
+
+With --xml a JUnit result for catkin's run_tests (make test) is written.
+"""
+import glob
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import junit_runner  # noqa: E402
+
+TOOL = None
+
+
+def render(out, count, seed, fraction=None):
+    args = [TOOL, "--output", out, "--count", str(count), "--seed", str(seed)]
+    if fraction is not None:
+        args += ["--bench-fraction", str(fraction)]
+    subprocess.run(args, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    poses = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(out, "poses", "*.json")))]
+    return poses
+
+
+def digest(out, sub):
+    h = hashlib.md5()
+    for p in sorted(glob.glob(os.path.join(out, sub, "*"))):
+        h.update(open(p, "rb").read())
+    return h.hexdigest()
+
+
+class BenchScenes(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.bench = render(os.path.join(cls.tmp.name, "bench"), 12, 5, 1.0)
+        cls.random = render(os.path.join(cls.tmp.name, "random"), 12, 5)
+
+    def objects(self, poses):
+        return [o for p in poses for o in p["objects"]]
+
+    def test_the_fraction_chooses_the_scene_kind(self):
+        self.assertEqual({p["scene"] for p in self.bench}, {"bench"})
+        self.assertEqual({p["scene"] for p in self.random}, {"random"})
+        mixed = render(os.path.join(self.tmp.name, "mixed"), 40, 6, 0.5)
+        n = sum(p["scene"] == "bench" for p in mixed)
+        self.assertTrue(8 <= n <= 32, n)
+
+    def test_bench_objects_stand_upright_at_the_robots_distances(self):
+        objects = self.objects(self.bench)
+        self.assertGreaterEqual(len(objects), 20)
+        T = np.array([o["T_camera_object"] for o in objects])
+        distance = np.linalg.norm(T[:, :3, 3], axis=1)
+        # The camera is 0.9-3.4 m (horizontally) from a point on the bench; the objects are around it.
+        self.assertTrue(((distance > 0.5) & (distance < 4.5)).all(), distance)
+        self.assertTrue(1.5 < np.median(distance) < 2.8, distance)
+        # The camera looks down a little with hardly any roll: up is about -y of the optical frame.
+        up = -T[:, 1, 2]  # the object's z axis, seen in the camera frame, dotted with "up"
+        self.assertGreater(np.mean(up > 0.6), 0.7, up)
+        random_up = -np.array([o["T_camera_object"] for o in self.objects(self.random)])[:, 1, 2]
+        self.assertLess(np.mean(random_up > 0.6), np.mean(up > 0.6))
+
+    def test_bench_scenes_show_several_classes_side_by_side(self):
+        per_image = [len({o["class"] for o in p["objects"]}) for p in self.bench]
+        self.assertGreaterEqual(np.mean(per_image), 1.8, per_image)
+
+    def test_fraction_zero_renders_the_images_of_no_fraction(self):
+        out = os.path.join(self.tmp.name, "zero")
+        render(out, 12, 5, 0.0)
+        for sub in ("images", "labels"):
+            self.assertEqual(digest(out, sub), digest(os.path.join(self.tmp.name, "random"), sub))
+
+    def test_a_fraction_outside_zero_to_one_is_refused(self):
+        r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", "--bench-fraction", "1.5"],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--bench-fraction", r.stderr)
+
+
+if __name__ == "__main__":
+    TOOL = junit_runner.argument("tool")
+    if not TOOL:
+        sys.exit("usage: test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]")
+    junit_runner.main("render_dataset", BenchScenes)
