@@ -159,13 +159,22 @@ int main(int argc, char** argv) {
         // --detector) lies within that gate of it: before, the tracker has nothing to start from
         // (the simulated detector misses the screwdriver at 2.8 m). Later frames without an
         // estimate are misses, hidden or not.
+        // hypotheses.*: the nearest hypothesis of each true object in view, scored like a track.
         const Eigen::Isometry3d T_map_base = gt.T_map_base ? *gt.T_map_base : r.T_map_base;
-        for (const PoseHypothesis& h : bf.frame.hypotheses)
-          for (const auto& t : gt.objects)
-            if (t.class_name == h.class_name && catalog->contains(t.class_name) &&
-                ((T_map_base * h.T_base_object).translation() - t.T_map_object.translation()).norm() <
-                    std::max(0.1, catalog->get(t.class_name).diameter))
-              detected.insert(t.id);
+        for (const auto& t : gt.objects) {
+          if (!catalog->contains(t.class_name)) continue;
+          const PoseHypothesis* nearest = nullptr;
+          double nearest_d = std::max(0.1, catalog->get(t.class_name).diameter);  // the gate
+          for (const PoseHypothesis& h : bf.frame.hypotheses) {
+            const double d = ((T_map_base * h.T_base_object).translation() - t.T_map_object.translation()).norm();
+            if (t.class_name == h.class_name && d < nearest_d) nearest_d = d, nearest = &h;
+          }
+          if (nearest) detected.insert(t.id);
+          if (!gt.T_map_base || inView(bf.frame, *gt.T_map_base, t.T_map_object))
+            report.addHypothesis(t.id, nearest ? std::optional<PoseErrors>(score(t.class_name, T_map_base * nearest->T_base_object,
+                                                                                  t.T_map_object))
+                                               : std::nullopt);
+        }
         std::vector<char> used(r.objects.size(), 0);
         std::map<std::string, std::string> track_to_object;
         for (const auto& t : gt.objects) {

@@ -1,5 +1,5 @@
 // The evaluation report: the keys other tools read, means and recall computed by hand, identity
-// switches, and the pre-segmentation ratios.
+// switches, the pre-segmentation ratios and the hypotheses' share and errors.
 #include <gtest/gtest.h>
 
 #include "scene_graph_tracker/evaluation/report.hpp"
@@ -69,6 +69,24 @@ TEST(EvaluationReport, FalsePositivesCountTrackFramesTracksAndClasses) {
   EXPECT_TRUE(has(j, "\"false_positives_by_class\": {\"klt\": 1, \"relay\": 2}")) << j;
   EXPECT_TRUE(has(r.markdown(), "3 track-frames of 1 klt track, 1 relay track.")) << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "false_positive,1,klt_2,klt,"));
+}
+
+TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
+  EvaluationReport r;
+  r.addFrame(0, StageTimes{});
+  EXPECT_FALSE(has(r.json(), "\"hypotheses\"")) << "no key when nothing was scored";
+  EXPECT_FALSE(has(r.markdown(), "Pose hypotheses"));
+  PoseErrors e;
+  for (const double t : {0.010, 0.030, 0.020}) e.translation = t, e.rotation_deg = 100 * t, r.addHypothesis("klt_1", e);
+  r.addHypothesis("klt_1", std::nullopt);  // in view, no hypothesis within the gate
+  r.addHypothesis("screwdriver_1", std::nullopt);
+  const std::string j = r.json();
+  EXPECT_TRUE(has(j, "\"hypotheses\": {\n    \"evaluated\": 5,\n    \"found\": 3,\n    \"recall\": 0.6,")) << j;
+  EXPECT_TRUE(has(j, "\"klt_1\": {\n        \"evaluated\": 4,\n        \"found\": 3,\n        \"recall\": 0.75,\n"
+                     "        \"translation_error_median_mm\": 20,\n        \"rotation_error_median_deg\": 2\n")) << j;
+  EXPECT_TRUE(has(j, "\"screwdriver_1\": {\n        \"evaluated\": 1,\n        \"found\": 0,\n        \"recall\": 0,\n"
+                     "        \"translation_error_median_mm\": null")) << j;
+  EXPECT_TRUE(has(r.markdown(), "| klt_1 | 4 | 3 | 0.750 | 20.0 | 2.0 |")) << r.markdown();
 }
 
 }  // namespace

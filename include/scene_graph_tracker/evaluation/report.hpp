@@ -1,6 +1,6 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.* (with false positives),
-// localization.*, presegmentation.*, relations.* (when relations were scored), timing.*),
+// hypotheses.* (when any were scored), localization.*, presegmentation.*, relations.* (when relations were scored), timing.*),
 // report.md (tables) and timeseries.csv (one row per frame, object and false positive, read by
 // scripts/plot_report.py).
 #pragma once
@@ -35,6 +35,11 @@ class EvaluationReport {
   // frame: a false positive in the CLEAR-MOT sense (a track on a distractor or a person, a
   // duplicate, one far from its object).
   void addFalsePositive(double stamp, const std::string& track_id, const std::string& class_name);
+  // One true object in view in one frame against the pose hypotheses of its class (the
+  // detector's, or the bag's simulated ones): the errors of the nearest one within the
+  // association gate, or nullopt when none was that close. hypotheses.* says how often the source
+  // gave the tracker a start and how good that start was.
+  void addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
   // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the scenario.
@@ -47,6 +52,8 @@ class EvaluationReport {
 
  private:
   std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n"
+  std::string hypothesesJson() const;      // the hypotheses key with its trailing ",\n" (or nothing)
+  std::string hypothesesMarkdown() const;
   struct ObjectRow {
     double stamp;
     std::string id, class_name;
@@ -68,6 +75,11 @@ class EvaluationReport {
   UnknownLabelCounts labels_;
   RelationCounts relations_;
   std::size_t relation_frames_ = 0, declared_relations_ = 0;
+  struct HypothesisCounts {
+    std::size_t evaluated = 0, found = 0;
+    std::vector<double> t_mm, r_deg;  // of the found ones
+  };
+  std::map<std::string, HypothesisCounts> hypotheses_;  // per truth id
   std::map<std::string, std::string> last_track_;  // truth id -> last matched track id
   std::map<std::string, int> switches_;
 };

@@ -94,6 +94,52 @@ std::string EvaluationReport::falsePositivesJson() const {
   return o.str();
 }
 
+void EvaluationReport::addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest) {
+  HypothesisCounts& c = hypotheses_[truth_id];
+  ++c.evaluated;
+  if (!nearest) return;
+  ++c.found;
+  c.t_mm.push_back(nearest->translation * 1000), c.r_deg.push_back(nearest->rotation_deg);
+}
+
+std::string EvaluationReport::hypothesesJson() const {
+  if (hypotheses_.empty()) return "";
+  const auto fields = [](const HypothesisCounts& c, const std::string& indent) {
+    std::ostringstream o;
+    o << indent << "\"evaluated\": " << c.evaluated << ",\n" << indent << "\"found\": " << c.found << ",\n"
+      << indent << "\"recall\": " << num(c.evaluated ? static_cast<double>(c.found) / c.evaluated : NAN) << ",\n"
+      << indent << "\"translation_error_median_mm\": " << num(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << ",\n"
+      << indent << "\"rotation_error_median_deg\": " << num(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
+    return o.str();
+  };
+  HypothesisCounts all;
+  for (const auto& [id, c] : hypotheses_) {
+    all.evaluated += c.evaluated, all.found += c.found;
+    all.t_mm.insert(all.t_mm.end(), c.t_mm.begin(), c.t_mm.end());
+    all.r_deg.insert(all.r_deg.end(), c.r_deg.begin(), c.r_deg.end());
+  }
+  std::ostringstream o;
+  o << "  \"hypotheses\": {\n" << fields(all, "    ") << ",\n    \"per_object\": {";
+  bool first = true;
+  for (const auto& [id, c] : hypotheses_)
+    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n" << fields(c, "        ") << "\n      }", first = false;
+  o << "\n    }\n  },\n";
+  return o.str();
+}
+
+std::string EvaluationReport::hypothesesMarkdown() const {
+  if (hypotheses_.empty()) return "";
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(1)
+    << "\nPose hypotheses (nearest of the class within the gate, true base pose):\n\n"
+    << "| object | frames in view | with a hypothesis | share | t mm median | R deg median |\n|---|---|---|---|---|---|\n";
+  for (const auto& [id, c] : hypotheses_)
+    o << "| " << id << " | " << c.evaluated << " | " << c.found << " | " << std::setprecision(3)
+      << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << std::setprecision(1) << " | "
+      << (c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << " | " << (c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5)) << " |\n";
+  return o.str();
+}
+
 void EvaluationReport::addLocalization(double stamp, double t, double r) {
   if (!frames_.empty() && frames_.back().stamp == stamp) {
     frames_.back().loc_t = t;
@@ -140,7 +186,7 @@ std::string EvaluationReport::json() const {
       << "\n      }";
     first = false;
   }
-  o << "\n    }\n  },\n"
+  o << "\n    }\n  },\n" << hypothesesJson()
     << "  \"localization\": {\n    \"frames\": " << lt.size() << ",\n    \"translation_error_mean_mm\": " << num(mean(lt))
     << ",\n    \"rotation_error_mean_deg\": " << num(mean(lr)) << ",\n    \"translation_error_max_mm\": "
     << num(lt.empty() ? NAN : *std::max_element(lt.begin(), lt.end())) << "\n  },\n"
@@ -189,6 +235,7 @@ std::string EvaluationReport::markdown() const {
     for (const auto& [c, ids] : tracks) o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
     o << ".\n";
   }
+  o << hypothesesMarkdown();
   std::vector<double> lt, lr, total;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
