@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -98,6 +99,7 @@ int main(int argc, char** argv) {
       reader.setReadRgb(true);
     }
     std::size_t frames_without_rgb = 0;
+    std::map<std::string, std::pair<std::size_t, std::size_t>> detections_by_class;  // detections, PnP accepted
     std::set<std::string> detected;  // true objects a hypothesis has found (scored from then on)
     PipelineOptions options;
     options.localize = !args.oracle_localization;
@@ -136,6 +138,10 @@ int main(int argc, char** argv) {
             if (std::holds_alternative<PinholeModel>(m.model)) depth = &m;
           const auto detections = detector->detect(bf.rgb->rgb, bf.rgb->camera, depth);
           detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          for (const auto& d : detections) {
+            auto& [found, accepted] = detections_by_class[d.detection.class_name];
+            ++found, accepted += d.pnp.ok();
+          }
           for (const auto& d : detections)
             if (d.pnp.ok())
               bf.frame.hypotheses.push_back(
@@ -227,6 +233,11 @@ int main(int argc, char** argv) {
       progress.update(++done);
     });
     progress.finish();
+    if (detector) {
+      std::cout << "detector: detections (PnP accepted) per class:";
+      for (const auto& [c, n] : detections_by_class) std::cout << " " << c << " " << n.first << " (" << n.second << ")";
+      std::cout << "\n";
+    }
     if (frames_without_rgb > 0)
       std::cerr << "warning: " << frames_without_rgb << " frames had no colour image: no detections for them\n";
 

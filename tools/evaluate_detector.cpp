@@ -3,12 +3,14 @@
 // (px, over keypoints labelled inside the image), PnP initial pose error (translation mm, rotation
 // degrees symmetry-aware, ADD-S mm) and inference time per frame (median, ms). The model's own
 // per-class score_thresholds are ignored here: per class it reports precision / recall at score
-// thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F1 where the detector
-// is reliable for the class there (precision >= 0.7); a class it is not reliable for keeps the
-// global threshold (raising it would lose true detections the tracker needs without making the
-// rest trustworthy). --write-thresholds puts the suggestions into the model's metadata YAML.
+// thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F-beta (F1 unless
+// --threshold-beta; 2 weighs recall twice, for a tracker that checks each hypothesis against the
+// depth anyway) where the detector is reliable for the class there (precision >= 0.7); a class it
+// is not reliable for keeps the global threshold (raising it would lose true detections the
+// tracker needs without making the rest trustworthy). --write-thresholds puts the suggestions
+// into the model's metadata YAML.
 //   rosrun scene_graph_tracker evaluate_detector --dataset DIR --model MODEL.yaml --output OUT
-//       [--catalog objects.yaml] [--limit N] [--debug-images K] [--write-thresholds]
+//       [--catalog objects.yaml] [--limit N] [--debug-images K] [--write-thresholds] [--threshold-beta B]
 // Writes OUT/report.json and OUT/debug_*.png (the first K frames with drawn detections).
 #include <yaml-cpp/yaml.h>
 
@@ -37,12 +39,13 @@ struct Args {
   std::size_t limit = 0;
   int debug_images = 8;
   bool write_thresholds = false;
+  double threshold_beta = 1.0;
 };
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate_detector",
                               "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] [--debug-images K] "
-                              "[--write-thresholds]");
+                              "[--write-thresholds] [--threshold-beta B]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--dataset") a.dataset = value();
@@ -52,10 +55,12 @@ Args parse(int argc, char** argv) {
     else if (k == "--limit") a.limit = std::stoul(value());
     else if (k == "--debug-images") a.debug_images = std::stoi(value());
     else if (k == "--write-thresholds") a.write_thresholds = true;
+    else if (k == "--threshold-beta") a.threshold_beta = std::stod(value());
     else return false;
     return true;
   });
   if (a.dataset.empty() || a.model.empty() || a.output.empty()) flags.fail("--dataset, --model and --output are required");
+  if (!(a.threshold_beta > 0.0)) flags.fail("--threshold-beta must be positive");
   return a;
 }
 
@@ -118,7 +123,11 @@ struct ClassStats {
 // higher threshold keeps exactly the matches it had.
 struct ScorePoint {
   float threshold;
-  double precision, recall, f1;
+  double precision, recall;
+  double f(double beta) const {
+    const double b2 = beta * beta;
+    return precision + recall > 0 ? (1 + b2) * precision * recall / (b2 * precision + recall) : 0.0;
+  }
 };
 std::vector<ScorePoint> scoreCurve(const ClassStats& s) {
   std::vector<ScorePoint> out;
@@ -129,26 +138,27 @@ std::vector<ScorePoint> scoreCurve(const ClassStats& s) {
       if (score >= t) ++kept, matched += m;
     const double p = kept ? static_cast<double>(matched) / kept : 0.0;
     const double r = s.truths ? static_cast<double>(matched) / s.truths : 0.0;
-    out.push_back({t, p, r, p + r > 0 ? 2 * p * r / (p + r) : 0.0});
+    out.push_back({t, p, r});
   }
   return out;
 }
-const ScorePoint& bestF1(const std::vector<ScorePoint>& curve) {
+const ScorePoint& bestF(const std::vector<ScorePoint>& curve, double beta) {
   const ScorePoint* best = &curve.front();
   for (const ScorePoint& q : curve)
-    if (q.f1 > best->f1 + 1e-9) best = &q;
+    if (q.f(beta) > best->f(beta) + 1e-9) best = &q;
   return *best;
 }
 constexpr double kReliablePrecision = 0.7;
 
 // Replaces the metadata's score_thresholds line (and its comment) with `line`.
-void writeThresholds(const std::string& yaml_path, const std::string& line) {
+void writeThresholds(const std::string& yaml_path, const std::string& line, const std::string& rule) {
   std::ifstream in(yaml_path);
   std::ostringstream kept;
   for (std::string l; std::getline(in, l);)
     if (l.rfind("score_thresholds:", 0) != 0 && l.rfind("# score_thresholds", 0) != 0) kept << l << "\n";
   std::ofstream(yaml_path) << kept.str()
-                           << "# score_thresholds: per class, suggested by evaluate_detector on held-out renders\n"
+                           << "# score_thresholds: per class, suggested by evaluate_detector on held-out renders (best "
+                           << rule << " where precision >= " << kReliablePrecision << ")\n"
                            << line << "\n";
 }
 
@@ -246,14 +256,15 @@ int main(int argc, char** argv) {
     for (const auto& [c, s] : per) curves[c] = scoreCurve(s);
     std::ostringstream j;
     j << "{\n  \"frames\": " << names.size() << ",\n  \"model\": \"" << args.model << "\",\n"
-      << "  \"inference_ms_median\": " << num(median(infer_ms)) << ",\n  \"all\": {\n" << stats_json(all, "    ")
+      << "  \"inference_ms_median\": " << num(median(infer_ms)) << ",\n  \"threshold_beta\": " << num(args.threshold_beta)
+      << ",\n  \"all\": {\n" << stats_json(all, "    ")
       << "\n  },\n  \"per_class\": {";
     bool first = true;
     for (const auto& [c, s] : per) {
       const auto& curve = curves.at(c);
-      const ScorePoint& best = bestF1(curve);
+      const ScorePoint& best = bestF(curve, args.threshold_beta);
       j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ")
-        << ",\n      \"best_f1_score_threshold\": " << best.threshold << ", \"suggested_score_threshold\": "
+        << ",\n      \"best_f1_score_threshold\": " << bestF(curve, 1.0).threshold << ", \"suggested_score_threshold\": "
         << (best.precision >= kReliablePrecision ? num(best.threshold) : "null") << ",\n      \"score_curve\": [";
       for (std::size_t i = 0; i < curve.size(); ++i)
         j << (i ? ", " : "") << "{\"threshold\": " << curve[i].threshold << ", \"precision\": " << num(curve[i].precision)
@@ -273,20 +284,21 @@ int main(int argc, char** argv) {
     };
     for (const auto& [c, s] : per) row(c, s);
     row("**all**", all);
-    std::cout << "\nscore threshold with the best F1 per class (precision / recall there):";
+    const std::string rule = args.threshold_beta == 1.0 ? "F1" : "F" + num(args.threshold_beta);
+    std::cout << "\nscore threshold with the best " << rule << " per class (precision / recall there):";
     std::ostringstream suggested;
     const char* sep = "";
     for (const auto& [c, curve] : curves) {
-      const ScorePoint& best = bestF1(curve);
+      const ScorePoint& best = bestF(curve, args.threshold_beta);
       std::cout << " " << c << " " << best.threshold << " (" << num(best.precision) << " / " << num(best.recall) << ")";
       if (best.precision >= kReliablePrecision)
         suggested << sep << c << ": " << best.threshold, sep = ", ";
     }
     const std::string line = "score_thresholds: {" + suggested.str() + "}";
-    std::cout << "\nsuggested (best F1 where precision >= " << kReliablePrecision << "; others keep the global): " << line
+    std::cout << "\nsuggested (best " << rule << " where precision >= " << kReliablePrecision << "; others keep the global): " << line
               << "\n";
     if (args.write_thresholds) {
-      writeThresholds(args.model, line);
+      writeThresholds(args.model, line, rule);
       std::cout << "written into " << args.model << "\n";
     }
     std::cout << "\ninference (detector incl. letterbox + decoding + PnP) median " << num(median(infer_ms))
