@@ -56,6 +56,10 @@ MODEL_LR ?= 3e-3
 # The share of bench scenes like the robot's in the train and val renders (render_dataset --bench-fraction)
 MODEL_BENCH_FRACTION ?= 0
 MODEL_VAL_BENCH_FRACTION ?= 0
+# Keypoint labels: object (up to the object's symmetries) or cuboid (up to a half turn of its box too)
+MODEL_LABELS ?= object
+# Score thresholds by the best F-beta on the val set (evaluate_detector --threshold-beta)
+MODEL_THRESHOLD_BETA ?= 1
 # Where the trained model goes (its .yaml beside it); another path keeps the shipped one
 MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
@@ -63,14 +67,14 @@ MODEL_INIT ?=
 model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
-	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION)
+	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
-	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION)
+	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
 	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output $(MODEL_OUTPUT) \
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
 	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model $(basename $(MODEL_OUTPUT)).yaml --output $(MODEL_DIR)/eval \
-	  --write-thresholds
+	  --write-thresholds --threshold-beta $(MODEL_THRESHOLD_BETA)
 
 clean:
 	rm -rf $(BUILD)

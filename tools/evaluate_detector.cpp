@@ -1,7 +1,8 @@
 // Evaluates a keypoint model on held-out rendered frames (a dataset written by render_dataset):
 // detection precision / recall (IoU >= 0.5, same class), keypoint error of matched detections
 // (px, over keypoints labelled inside the image), PnP initial pose error (translation mm, rotation
-// degrees symmetry-aware, ADD-S mm) and inference time per frame (median, ms). The model's own
+// degrees symmetry-aware, ADD-S mm; the rotation also up to a half turn of the box, what cuboid
+// labels can tell) and inference time per frame (median, ms). The model's own
 // per-class score_thresholds are ignored here: per class it reports precision / recall at score
 // thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F-beta (F1 unless
 // --threshold-beta; 2 weighs recall twice, for a tracker that checks each hypothesis against the
@@ -25,6 +26,7 @@
 
 #include "command_line.hpp"
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
+#include "scene_graph_tracker/detection/keypoint_labels.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
@@ -115,7 +117,7 @@ double mean(const std::vector<double>& v) {
 
 struct ClassStats {
   std::size_t truths = 0, detections = 0, matched = 0, pnp_ok = 0;
-  std::vector<double> kp_px, t_mm, r_deg, adds_mm;
+  std::vector<double> kp_px, t_mm, r_deg, adds_mm, r_box_deg;
   std::vector<std::pair<float, bool>> scores;  // each detection's score and whether it matched a truth
 };
 
@@ -217,6 +219,10 @@ int main(int argc, char** argv) {
           ++s.pnp_ok;
           const PoseErrors e = score(d.detection.class_name, d.pnp.T_camera_object, truth[best].T_camera_object);
           s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg), s.adds_mm.push_back(e.add_s * 1000);
+          double r_box = e.rotation_deg;  // up to a half turn of the box (all cuboid labels can tell)
+          for (const Eigen::Isometry3d& B : detection::boxHalfTurns())
+            r_box = std::min(r_box, score(d.detection.class_name, d.pnp.T_camera_object * B, truth[best].T_camera_object).rotation_deg);
+          s.r_box_deg.push_back(r_box);
         }
       }
       if (static_cast<int>(i) < args.debug_images) {
@@ -231,7 +237,7 @@ int main(int argc, char** argv) {
     ClassStats all;
     for (const auto& [c, s] : per) {
       all.truths += s.truths, all.detections += s.detections, all.matched += s.matched, all.pnp_ok += s.pnp_ok;
-      for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg, &ClassStats::adds_mm})
+      for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg, &ClassStats::adds_mm, &ClassStats::r_box_deg})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
     }
     const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
@@ -249,7 +255,7 @@ int main(int argc, char** argv) {
         << num(median(s.kp_px)) << ",\n"
         << indent << "\"pnp_ok\": " << s.pnp_ok << ", \"pnp_translation_error_mm_median\": " << num(median(s.t_mm))
         << ", \"pnp_rotation_error_deg_median\": " << num(median(s.r_deg)) << ", \"pnp_add_s_mm_median\": "
-        << num(median(s.adds_mm));
+        << num(median(s.adds_mm)) << ",\n" << indent << "\"pnp_rotation_error_up_to_box_turns_deg_median\": " << num(median(s.r_box_deg));
       return o.str();
     };
     std::map<std::string, std::vector<ScorePoint>> curves;

@@ -2,7 +2,7 @@
 // keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
 //
 //   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
-//                                             [--bench-fraction F] [--mesh-dir D]
+//                                             [--bench-fraction F] [--labels object|cuboid] [--mesh-dir D]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
@@ -54,6 +54,7 @@ struct Args {
   std::uint32_t seed = 1;
   double max_distance = 2.5;
   double bench_fraction = 0.0;
+  bool cuboid_labels = false;
 };
 
 struct Rng {
@@ -102,8 +103,10 @@ struct Placed {
 
 class DatasetRenderer {
  public:
-  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance, double bench_fraction)
-      : catalog_(catalog), seed_(seed), max_distance_(max_distance), bench_fraction_(bench_fraction) {
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance, double bench_fraction,
+                  bool cuboid_labels)
+      : catalog_(catalog), seed_(seed), max_distance_(max_distance), bench_fraction_(bench_fraction),
+        cuboid_labels_(cuboid_labels) {
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2, b.target_triangles = 80000, b.seed = seed;
     building_ = sgt::makeBuilding(b);
@@ -165,6 +168,7 @@ class DatasetRenderer {
   double max_distance_;  // camera to the objects' centre, from 0.5 m
   double bench_fraction_;
   bool bench_ = false;  // the current image is a bench scene
+  bool cuboid_labels_;
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -448,7 +452,8 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
     const Visible& s = it->second;
     const sgt::ObjectClass& oc = catalog_.get(kClasses[p.class_id]);
     const Isometry3d T = T_world_camera.inverse() * p.T_world_object;
-    const Isometry3d T_label = sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
+    const Isometry3d T_label = cuboid_labels_ ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
+                                              : sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
     const auto proj = sgt::detection::projectCuboid(camera_, T_label, lib_.class_boxes[p.class_id]);
     txt << p.class_id << ' ' << (s.x0 + s.x1 + 1) / (2 * W) << ' ' << (s.y0 + s.y1 + 1) / (2 * H) << ' '
         << (s.x1 - s.x0 + 1) / W << ' ' << (s.y1 - s.y0 + 1) / H;
@@ -475,6 +480,8 @@ void usage(std::ostream& os) {
         "  --seed      random seed (default 1); the same seed renders the same images\n"
         "  --max-distance  camera distances are drawn from 0.5 m to M (default 2.5)\n"
         "  --bench-fraction  this fraction of the images (0-1, default 0) are bench scenes like the robot's\n"
+        "  --labels    object (default): keypoints of the pose up to the object's symmetries; cuboid: up to\n"
+        "              a half turn of its box as well (detection/keypoint_labels.hpp)\n"
         "  --mesh-dir  use the meshes in D for the catalog classes\n";
 }
 
@@ -493,6 +500,10 @@ int main(int argc, char** argv) {
     else if (a == "--mesh-dir") args.mesh_dir = v;
     else if (a == "--max-distance") args.max_distance = std::stod(v);
     else if (a == "--bench-fraction") args.bench_fraction = std::stod(v);
+    else if (a == "--labels") {
+      if (v != "object" && v != "cuboid") return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
+      args.cuboid_labels = v == "cuboid";
+    }
     else return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
   if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5) ||
@@ -503,7 +514,7 @@ int main(int argc, char** argv) {
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog =
         sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
-    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction);
+    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction, args.cuboid_labels);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       renderer.render(i, dir);
@@ -512,7 +523,7 @@ int main(int argc, char** argv) {
     bar.finish();
     std::ofstream yaml(dir / "dataset.yaml");
     yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << " --max-distance " << args.max_distance
-         << " --bench-fraction " << args.bench_fraction
+         << " --bench-fraction " << args.bench_fraction << " --labels " << (args.cuboid_labels ? "cuboid" : "object")
          << "\npath: " << dir.string()
          << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
     for (std::size_t c = 0; c < kClasses.size(); ++c) yaml << "  " << c << ": " << kClasses[c] << "\n";

@@ -1,5 +1,6 @@
 // Training labels of the keypoint detector: the symmetry-canonical label pose (the same label for
-// every symmetric twin of a pose, the pose itself for an asymmetric object) and the projected
+// every symmetric twin of a pose, the pose itself for an asymmetric object), the cuboid labels
+// (one label for every half turn of the box) and the projected
 // cuboid keypoints with their inside-the-image flags.
 #include <gtest/gtest.h>
 
@@ -54,6 +55,33 @@ TEST(KeypointLabels, ContinuousSymmetryLabelIsStableUnderTheAxisRotation) {
     EXPECT_LT(test::rotationErrorDeg(other.linear(), base.linear()), 5.01) << "spin " << spin;
     EXPECT_TRUE(other.translation().isApprox(T.translation()));
   }
+}
+
+TEST(KeypointLabels, CuboidLabelsAreOneForEveryHalfTurnOfTheBox) {
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.03), Eigen::Vector3d(0.1, 0.05, 0.03));
+  const PinholeModel cam;
+  for (double yaw : {0.2, 1.4, 2.9, -2.0}) {
+    const Eigen::Isometry3d T = pose(-2.2, 0.1, yaw, {0.0, 0.1, 1.2});
+    const Eigen::Isometry3d label = canonicalCuboidPose(T, Symmetry{});
+    bool is_a_turn = false;
+    for (const Eigen::Isometry3d& B : boxHalfTurns()) {
+      EXPECT_TRUE(canonicalCuboidPose(T * B, Symmetry{}).isApprox(label, 1e-9)) << "yaw " << yaw;
+      is_a_turn = is_a_turn || label.isApprox(T * B, 1e-9);
+    }
+    EXPECT_TRUE(is_a_turn) << "the label is the pose turned by one of the box's half turns";
+    // The same cuboid: the labelled corners are the true corners, in another order.
+    const auto a = projectCuboid(cam, T, box), b = projectCuboid(cam, label, box);
+    for (int k = 0; k < kCuboidKeypoints; ++k) {
+      double nearest = 1e9;
+      for (int m = 0; m < kCuboidKeypoints; ++m) nearest = std::min(nearest, (b.uv[k] - a.uv[m]).norm());
+      EXPECT_LT(nearest, 1e-6) << "keypoint " << k;
+    }
+  }
+  // Without symmetries the object labels keep the pose; the cuboid labels turn it when a turn
+  // is closer to the canonical rotation (here the box seen upside down).
+  const Eigen::Isometry3d upside_down = pose(0.0, 0.0, 0.0, {0.0, 0.0, 1.0});  // object z away from the camera
+  EXPECT_TRUE(canonicalSymmetricPose(upside_down, Symmetry{}).isApprox(upside_down));
+  EXPECT_FALSE(canonicalCuboidPose(upside_down, Symmetry{}).isApprox(upside_down));
 }
 
 TEST(KeypointLabels, ProjectionMarksWhatLandsInTheImage) {

@@ -79,6 +79,29 @@ class BenchScenes(unittest.TestCase):
         for sub in ("images", "labels"):
             self.assertEqual(digest(out, sub), digest(os.path.join(self.tmp.name, "random"), sub))
 
+    def test_cuboid_labels_reorder_the_same_corners(self):
+        out = os.path.join(self.tmp.name, "cuboid")
+        subprocess.run([TOOL, "--output", out, "--count", "12", "--seed", "5", "--labels", "cuboid"], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        random = os.path.join(self.tmp.name, "random")
+        self.assertEqual(digest(out, "images"), digest(random, "images"))
+        reordered = 0
+        for name in sorted(os.listdir(os.path.join(out, "labels"))):
+            a = np.loadtxt(os.path.join(random, "labels", name), ndmin=2)
+            b = np.loadtxt(os.path.join(out, "labels", name), ndmin=2)
+            self.assertEqual(a.shape, b.shape)
+            np.testing.assert_array_equal(a[:, :5], b[:, :5])  # class and box
+            for ra, rb in zip(a, b):
+                if ra[0] == 1:  # the screwdriver: a continuous symmetry, sampled in 5 degree steps
+                    continue
+                ka, kb = ra[5:].reshape(9, 3), rb[5:].reshape(9, 3)
+                for k in kb[kb[:, 2] > 0]:  # every labelled corner is one of the object's corners
+                    self.assertLess(np.abs(ka[:, :2] - k[:2]).sum(1).min(), 1e-5)
+                np.testing.assert_allclose(ka[8], kb[8], atol=1e-6)  # the centre stays
+                reordered += not np.allclose(ka, kb)
+        self.assertGreater(reordered, 0)
+        self.assertIn("--labels cuboid", open(os.path.join(out, "dataset.yaml")).read())
+
     def test_a_fraction_outside_zero_to_one_is_refused(self):
         r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", "--bench-fraction", "1.5"],
                            capture_output=True, text=True)

@@ -4,19 +4,43 @@ namespace sgt::detection {
 
 Eigen::Matrix3d canonicalLabelRotation() { return Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal(); }
 
-Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
-                                         double continuous_step_rad) {
-  if (!symmetry.any()) return T_camera_object;
+namespace {
+
+// Among T * S * B the one whose rotation is closest to the canonical one (the first on ties).
+Eigen::Isometry3d closestToCanonical(const Eigen::Isometry3d& T_camera_object, const std::vector<Eigen::Isometry3d>& symmetries,
+                                     const std::vector<Eigen::Isometry3d>& turns) {
   // The geodesic angle falls as trace(Rc^T R) grows.
   const Eigen::Matrix3d Rc_t = canonicalLabelRotation().transpose();
   Eigen::Isometry3d best = T_camera_object;
   double best_trace = -4.0;
-  for (const Eigen::Isometry3d& S : symmetry.sampled(continuous_step_rad)) {
-    const Eigen::Isometry3d T = T_camera_object * S;
-    const double trace = (Rc_t * T.linear()).trace();
-    if (trace > best_trace) best_trace = trace, best = T;
-  }
+  for (const Eigen::Isometry3d& S : symmetries)
+    for (const Eigen::Isometry3d& B : turns) {
+      const Eigen::Isometry3d T = T_camera_object * S * B;
+      const double trace = (Rc_t * T.linear()).trace();
+      if (trace > best_trace) best_trace = trace, best = T;
+    }
   return best;
+}
+
+}  // namespace
+
+Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
+                                         double continuous_step_rad) {
+  if (!symmetry.any()) return T_camera_object;
+  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad), {Eigen::Isometry3d::Identity()});
+}
+
+std::array<Eigen::Isometry3d, 4> boxHalfTurns() {
+  std::array<Eigen::Isometry3d, 4> out;
+  out.fill(Eigen::Isometry3d::Identity());
+  for (int a = 0; a < 3; ++a) out[a + 1].linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(a)).toRotationMatrix();
+  return out;
+}
+
+Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
+                                      double continuous_step_rad) {
+  const auto turns = boxHalfTurns();
+  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad), {turns.begin(), turns.end()});
 }
 
 CuboidProjection projectCuboid(const PinholeModel& camera, const Eigen::Isometry3d& T_camera_object,
