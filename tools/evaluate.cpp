@@ -141,11 +141,10 @@ int main(int argc, char** argv) {
           for (const auto& d : detections) {
             auto& [found, accepted] = detections_by_class[d.detection.class_name];
             ++found, accepted += d.pnp.ok();
-          }
-          for (const auto& d : detections)
             if (d.pnp.ok())
               bf.frame.hypotheses.push_back(
                   {d.detection.class_name, bf.rgb->T_base_camera * d.pnp.T_camera_object, d.detection.score});
+          }
         } else {
           ++frames_without_rgb;
         }

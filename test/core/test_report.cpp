@@ -87,6 +87,7 @@ TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
   EXPECT_TRUE(has(j, "\"screwdriver_1\": {\n        \"evaluated\": 1,\n        \"found\": 0,\n        \"recall\": 0,\n"
                      "        \"translation_error_median_mm\": null")) << j;
   EXPECT_TRUE(has(r.markdown(), "| klt_1 | 4 | 3 | 0.750 | 20.0 | 2.0 |")) << r.markdown();
+  EXPECT_TRUE(has(r.markdown(), "| screwdriver_1 | 1 | 0 | 0.000 | – | – |")) << r.markdown();
 }
 
 }  // namespace

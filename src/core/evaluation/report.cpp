@@ -130,13 +130,20 @@ std::string EvaluationReport::hypothesesJson() const {
 std::string EvaluationReport::hypothesesMarkdown() const {
   if (hypotheses_.empty()) return "";
   std::ostringstream o;
-  o << std::fixed << std::setprecision(1)
+  o << std::fixed
     << "\nPose hypotheses (nearest of the class within the gate, true base pose):\n\n"
     << "| object | frames in view | with a hypothesis | share | t mm median | R deg median |\n|---|---|---|---|---|---|\n";
+  const auto median = [](const std::vector<double>& v) {
+    std::ostringstream m;
+    m << std::fixed << std::setprecision(1);
+    if (v.empty()) m << "–";  // no hypothesis came within the gate
+    else m << quantile(v, 0.5);
+    return m.str();
+  };
   for (const auto& [id, c] : hypotheses_)
     o << "| " << id << " | " << c.evaluated << " | " << c.found << " | " << std::setprecision(3)
-      << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << std::setprecision(1) << " | "
-      << (c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << " | " << (c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5)) << " |\n";
+      << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << " | " << median(c.t_mm) << " | "
+      << median(c.r_deg) << " |\n";
   return o.str();
 }
 
