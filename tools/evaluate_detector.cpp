@@ -221,7 +221,9 @@ int main(int argc, char** argv) {
           s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg), s.adds_mm.push_back(e.add_s * 1000);
           double r_box = e.rotation_deg;  // up to a half turn of the box (all cuboid labels can tell)
           for (const Eigen::Isometry3d& B : detection::boxHalfTurns())
-            r_box = std::min(r_box, score(d.detection.class_name, d.pnp.T_camera_object * B, truth[best].T_camera_object).rotation_deg);
+            r_box = std::min(r_box, symmetricRotationErrorDeg(catalog.get(d.detection.class_name).symmetry,
+                                                              (d.pnp.T_camera_object * B).linear(),
+                                                              truth[best].T_camera_object.linear()));
           s.r_box_deg.push_back(r_box);
         }
       }

@@ -39,6 +39,10 @@ class ModelSurface {
 double addSError(const std::vector<Eigen::Vector3f>& model_points, const ModelSurface& surface,
                  const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true);
 
+// Smallest angle (degrees) between R_est and R_true S over the symmetries S; with a continuous
+// symmetry, the tilt of its axis only (its twist is unobservable). PoseErrors::rotation_deg.
+double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_true);
+
 struct PoseErrors {
   double add = 0.0;    // ADD, minimised over the symmetries (BOP's ADD for symmetric objects is ADD-S)
   double add_s = 0.0;  // ADD-S: to the surface when given, else sampled; never above `add`

@@ -48,31 +48,33 @@ double addSError(const std::vector<Eigen::Vector3f>& pts, const ModelSurface& su
   return sum / pts.size();
 }
 
+double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_true) {
+  double deg = std::numeric_limits<double>::max();
+  // A continuous symmetry leaves only the tilt of its axis observable: measure that exactly
+  // rather than over the sampled twists (one continuous axis, as BOP's objects have).
+  if (!symmetry.continuous.empty()) {
+    const Eigen::Vector3d a = symmetry.continuous.front().axis;
+    Symmetry discrete_only;
+    discrete_only.discrete = symmetry.discrete;
+    for (const Eigen::Isometry3d& S : discrete_only.sampled()) {
+      const double c = (R_est * a).dot(R_true * S.linear() * a);
+      deg = std::min(deg, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+    }
+    return deg;
+  }
+  for (const Eigen::Isometry3d& S : symmetry.sampled())
+    deg = std::min(deg, Eigen::AngleAxisd(R_est.transpose() * R_true * S.linear()).angle() * 180.0 / M_PI);
+  return deg;
+}
+
 PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
                       const Eigen::Isometry3d& T_true, const ModelSurface* surface) {
   PoseErrors e;
   e.translation = (T_est.translation() - T_true.translation()).norm();
   e.add_s = surface ? addSError(pts, *surface, T_est, T_true) : addSError(pts, T_est, T_true);
   e.add = std::numeric_limits<double>::max();
-  e.rotation_deg = std::numeric_limits<double>::max();
-  for (const Eigen::Isometry3d& S : object.symmetry.sampled()) {
-    const Eigen::Isometry3d T_sym = T_true * S;
-    e.add = std::min(e.add, addError(pts, T_est, T_sym));
-    e.rotation_deg = std::min(e.rotation_deg,
-                              Eigen::AngleAxisd(T_est.linear().transpose() * T_sym.linear()).angle() * 180.0 / M_PI);
-  }
-  // A continuous symmetry leaves only the tilt of its axis observable: measure that exactly
-  // rather than over the sampled twists (one continuous axis, as BOP's objects have).
-  if (!object.symmetry.continuous.empty()) {
-    const Eigen::Vector3d a = object.symmetry.continuous.front().axis;
-    Symmetry discrete_only;
-    discrete_only.discrete = object.symmetry.discrete;
-    e.rotation_deg = std::numeric_limits<double>::max();
-    for (const Eigen::Isometry3d& S : discrete_only.sampled()) {
-      const double c = (T_est.linear() * a).dot(T_true.linear() * S.linear() * a);
-      e.rotation_deg = std::min(e.rotation_deg, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
-    }
-  }
+  for (const Eigen::Isometry3d& S : object.symmetry.sampled()) e.add = std::min(e.add, addError(pts, T_est, T_true * S));
+  e.rotation_deg = symmetricRotationErrorDeg(object.symmetry, T_est.linear(), T_true.linear());
   // ADD-S is the distance to the closest *surface* point; the closest of a few hundred samples
   // overestimates it by up to half their spacing (~1.5 cm on the KLT) when the estimate sits in a
   // symmetric pose, where rel * p falls between the samples. The truth under a symmetry S maps
