@@ -64,6 +64,7 @@ void TrackerNodelet::onInit() {
   o.run_presegmentation = pnh.param("presegment", o.run_presegmentation);
   o.search_orientations = pnh.param("search_orientations", o.search_orientations);
   o.research_below_fit_support = pnh.param("research_below_fit_support", o.research_below_fit_support);
+  o.contest_restarts = pnh.param("contest_restarts", o.contest_restarts);
   o.compute_relations = pnh.param("relations/enabled", o.compute_relations);
   o.reparent = pnh.param("relations/reparent", o.reparent);
   o.relation_options.directional = pnh.param("relations/directional", o.relation_options.directional);

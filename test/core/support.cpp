@@ -82,4 +82,16 @@ std::unique_ptr<BenchScene> benchScene() {
   return b;
 }
 
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench, double distance) {
+  const Eigen::Isometry3d T_map_base =
+      poseXyzYaw(bench.top + Eigen::Vector3d(0.0, distance, -bench.top.z()), -M_PI / 2);
+  return {T_map_base, opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench.top)};
+}
+
+PinholeModel qvgaCam() {
+  PinholeModel cam = PinholeModel::xtion();
+  cam.width = 320, cam.height = 240, cam.fx = cam.fy = 262.5, cam.cx = 159.5, cam.cy = 119.5;
+  return cam;
+}
+
 }  // namespace sgt::test

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
@@ -49,6 +50,13 @@ struct BenchScene {
   static NodeId objectNode(std::size_t k) { return static_cast<NodeId>(10 + k); }
 };
 std::unique_ptr<BenchScene> benchScene();
+
+// The robot `distance` m in front of the bench, facing it, and its camera (1.25 m high) looking
+// at the bench top: T_map_base, T_map_camera.
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench, double distance);
+
+// A QVGA depth image (the Xtion at 320 x 240): a quarter of the rays on an object.
+PinholeModel qvgaCam();
 
 // Angle of the rotation between two orientations, degrees.
 double rotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);

@@ -293,21 +293,6 @@ TEST(FramePipeline, ATrackSunkIntoTheMapGoesEvenUnseen) {
   EXPECT_GT(longestRelayTrackBehindTheRobot(-0.04, 1.0), 1.9) << "without the rule";
 }
 
-// The robot `distance` m in front of the bench, facing it, and its camera (1.25 m high) looking
-// at the bench top: T_map_base, T_map_camera.
-std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const test::BenchScene& bench, double distance) {
-  const Eigen::Isometry3d T_map_base =
-      test::poseXyzYaw(bench.top + Eigen::Vector3d(0.0, distance, -bench.top.z()), -M_PI / 2);
-  return {T_map_base, opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench.top)};
-}
-
-// A QVGA depth image (the Xtion at 320 x 240): a quarter of the rays on an object.
-PinholeModel qvgaCam() {
-  PinholeModel cam = PinholeModel::xtion();
-  cam.width = 320, cam.height = 240, cam.fx = cam.fy = 262.5, cam.cx = 159.5, cam.cy = 119.5;
-  return cam;
-}
-
 // The screwdriver seen from 2.8 m by a QVGA depth camera: its fits have 5-8 inliers, fewer than
 // the alignment's min_points, and the detector places it 4 cm off along its axis in every frame
 // (the detector demo's start: 7-15 cm off, 5-15 rays at VGA). Its tentative track's weak fits
@@ -317,8 +302,8 @@ PinholeModel qvgaCam() {
 // Returns the track's mean translation error over the last 0.5 s of 1.5 s.
 double farScrewdriverError(int min_weak_fit_inliers, int* fewest_inliers) {
   const auto bench = test::benchScene();
-  const auto [T_map_base, T_camera] = facingTheBench(*bench, 2.8);
-  const PinholeModel cam = qvgaCam();
+  const auto [T_map_base, T_camera] = test::facingTheBench(*bench, 2.8);
+  const PinholeModel cam = test::qvgaCam();
   const auto rays = std::make_shared<SensorRays>(makeRays(cam));
   const SimulatedScan scan = simulate(*bench->world, *rays, T_camera);
   const Eigen::Isometry3d& truth = bench->truth[1];  // the screwdriver; its axis is x
@@ -368,7 +353,7 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   turned.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   const PinholeModel cam = PinholeModel::xtion();
   const auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const PinholeModel far_cam = qvgaCam();
+  const PinholeModel far_cam = test::qvgaCam();
   const auto far_rays = std::make_shared<SensorRays>(makeRays(far_cam));
   struct View {
     const PinholeModel* cam;
@@ -378,7 +363,7 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   };
   std::vector<View> views{{&far_cam, far_rays}, {&cam, rays}};  // from 2.8 m, then from 1.1 m
   for (View& v : views) {
-    std::tie(v.T_map_base, v.T_camera) = facingTheBench(*bench, v.cam == &far_cam ? 2.8 : 1.1);
+    std::tie(v.T_map_base, v.T_camera) = test::facingTheBench(*bench, v.cam == &far_cam ? 2.8 : 1.1);
     v.scan = simulate(*bench->world, *v.rays, v.T_camera);
   }
   PipelineOptions options;

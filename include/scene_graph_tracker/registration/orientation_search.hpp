@@ -43,10 +43,14 @@ struct OrientationChoice {
 // With `world_up` set, a candidate whose object z axis points up gains up to upright_bonus of
 // its score (objects rest as their meshes are modelled, z up): a closed box upside down explains
 // the depth about as well as upright, and the detector's PnP often gives it upside down.
+// With `weak_fits_score`, candidates whose refinement did not end kOk (too few points, or a
+// false-hypothesis ratio) score by the same formula instead of being passed over: between a
+// far or half-hidden object's poses, a handful of points is all the evidence there is.
 struct OrientationPrior {
   double own_margin = 0.05;
   std::optional<Eigen::Vector3d> world_up;
   double upright_bonus = 0.2;
+  bool weak_fits_score = false;
 };
 OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
                                     const std::vector<Eigen::Isometry3d>& candidates,

@@ -144,7 +144,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
     ++t.out.detections;
     // Lost its fit: start again from the detection (unless a weak fit placed it: min_weak_fit_inliers).
     if (t.out.quality.status != RefineStatus::kOk && !placedByWeakFit(t)) {
-      if (t.out.state == TrackState::kLost) t.before_restart = t.out.T_map_object;
+      if (t.out.state == TrackState::kLost) t.before_restart = t.filter;
       t.filter.update(in_map[h], C, &catalog_->get(t.out.class_name).symmetry);
       t.out.T_map_object = in_map[h];
       scene_.setInstancePose(t.out.node, in_map[h]);
@@ -314,12 +314,10 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   });
   for (const RangeMeasurements& m : sets)
     if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model)) for_objects.push_back(m);
-  if (options_.search_orientations && !for_objects.empty()) {
-    searchOrientations(for_objects, frame.stamp);
-  } else {
-    needs_orientation_.clear();
-    for (Track& t : tracks_) t.before_restart.reset();
-  }
+  if (options_.contest_restarts && !for_objects.empty()) contestRestarts(for_objects);
+  for (Track& t : tracks_) t.before_restart.reset();
+  if (options_.search_orientations && !for_objects.empty()) searchOrientations(for_objects, frame.stamp);
+  else needs_orientation_.clear();
   if (!tracks_.empty() && !for_objects.empty()) {
     std::vector<RefineTarget> targets;
     for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});

@@ -1,5 +1,5 @@
-// FramePipeline: the orientation search for tracks just confirmed or restarted from a detection
-// (a restarted track's pose before the restart competes too, first: the detection must beat it).
+// FramePipeline: the contest between a lost track's pose and the detection that restarts it, and
+// the orientation search for tracks just confirmed or restarted from a detection.
 #include <algorithm>
 #include <optional>
 #include <utility>
@@ -8,6 +8,29 @@
 #include "scene_graph_tracker/registration/orientation_search.hpp"
 
 namespace sgt {
+
+void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) {
+  OrientationPrior prior;
+  prior.world_up = Eigen::Vector3d::UnitZ();
+  prior.weak_fits_score = true;
+  for (Track& t : tracks_) {
+    if (!t.before_restart) continue;
+    const ObjectClass& c = catalog_->get(t.out.class_name);
+    const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};  // the incumbent first
+    const OrientationChoice choice =
+        chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
+    if (choice.candidate == 0) {  // the track stays: its filter as before, no orientation search
+      t.filter = *t.before_restart;
+      t.out.T_map_object = t.filter.pose();
+      needs_orientation_.erase(std::remove(needs_orientation_.begin(), needs_orientation_.end(), t.out.id),
+                               needs_orientation_.end());
+    }
+    // Refinement goes on from the winner as it was, not as the contest's few rounds left it.
+    scene_.setInstancePose(t.out.node, t.out.T_map_object);
+    graph_.setWorldTransform(t.out.node, t.out.T_map_object);
+  }
+  scene_.commit();
+}
 
 void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp) {
   static const std::vector<Eigen::Matrix3d> rotations = cuboidRotations();
@@ -23,13 +46,11 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     const auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.out.id == id; });
     if (it == tracks_.end()) continue;
     Track& t = *it;
-    const std::optional<Eigen::Isometry3d> before = std::exchange(t.before_restart, std::nullopt);
     if (stamp - t.last_orientation_search < options_.orientation_search_interval_s) continue;  // a lost track
     t.last_orientation_search = stamp;                                                         // restarting again
     const ObjectClass& c = catalog_->get(t.out.class_name);
     ++searched;
-    std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);
-    if (before) candidates.insert(candidates.begin(), *before);  // the incumbent
+    const std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);
     const OrientationChoice choice =
         chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
     if (choice.candidates_fitted == 0) continue;  // nothing to judge by: the detection stands

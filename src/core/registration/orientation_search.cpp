@@ -44,8 +44,8 @@ OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& tar
     scene.setInstancePose(target.node, candidates[k]);
     scene.commit();
     const ObjectEstimate e = r.refine(scene, {target}, measurements).objects.front();
-    if (e.quality.status != RefineStatus::kOk) continue;
-    ++best.candidates_fitted;
+    if (e.quality.status == RefineStatus::kOk) ++best.candidates_fitted;
+    else if (!prior.weak_fits_score) continue;
     // MSAC-style: each inlier counts 1 - (r / threshold)^2, so a closer fit of the same points
     // wins (an upside-down box explains nearly the same pixels, a few mm worse).
     const double t = refiner.max_dist_last, fit = std::max(0.0, 1.0 - e.quality.rmse * e.quality.rmse / (t * t));
