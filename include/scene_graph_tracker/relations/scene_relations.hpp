@@ -11,6 +11,9 @@
 //              the KLT, not on the bench. Without a scene (boxes only): the relaxed box "on".
 //   on / in are one-way: when T and R each stand on or in the other (two tracks of one object),
 //              neither edge is kept.
+//   Two tracked objects of one kind whose boxes intersect are one object tracked twice (one of
+//              the tracks off): no relation between them, and T's support rays pass through R,
+//              as through any scene node that is no entity (a tentative track).
 //   left_of, right_of, in_front_of, behind, above, below: among tracked objects only, with
 //              directional_mode (strict: projection contains; relaxed: halfspace intersects), in
 //              R's own frame or, with camera_relative, from the camera's point of view.
@@ -37,6 +40,7 @@ struct Entity {
   NodeId node = kNoNode;  // its instance in the ray-casting scene; kNoNode for furniture
   OrientedBox box;
   bool movable = true;    // false: furniture, a reference only
+  std::string kind;       // class name of a tracked object ("": unknown, never a duplicate)
 };
 
 // "subject relation object", e.g. relay_1 in klt_1.

@@ -8,6 +8,7 @@
 // inside the KLT's box, not on its top: box relations say "in", the rays say "rests on the KLT".
 #pragma once
 
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -40,6 +41,11 @@ struct Support {
 // (kNoNode when it has no instance there).
 std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self = kNoNode,
                                    const SupportOptions& o = {});
+// The same, the rays passing through every node for which `passes_through` holds as through the
+// object's own (and through up to two more such solids): e.g. another track of the same object,
+// or a track that takes no part in relations.
+std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
+                                   const std::function<bool(NodeId)>& passes_through, const SupportOptions& o = {});
 // The node most rays rest on (node kNoNode, fraction 0 when none).
 Support supportBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self = kNoNode,
                      const SupportOptions& o = {});

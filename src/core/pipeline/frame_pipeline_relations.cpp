@@ -14,7 +14,7 @@ void FramePipeline::updateRelations(PipelineResult& out, const std::vector<Range
   for (const Track& t : tracks_) {
     if (t.out.state == TrackState::kTentative) continue;
     const Eigen::AlignedBox3d box = catalog_->get(t.out.class_name).box.cast<double>();
-    entities.push_back({t.out.id, t.out.node, relations::orientedBox(box, t.out.T_map_object), true});
+    entities.push_back({t.out.id, t.out.node, relations::orientedBox(box, t.out.T_map_object), true, t.out.class_name});
   }
   std::optional<Eigen::Isometry3d> camera;
   for (const RangeMeasurements& m : sets)

@@ -25,17 +25,27 @@ double highest(const OrientedBox& b) {
 
 std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
                                  const SceneRelationOptions& o, const std::optional<Eigen::Isometry3d>& T_world_camera) {
+  auto duplicates = [](const Entity& a, const Entity& b) {
+    return a.movable && b.movable && !a.kind.empty() && a.kind == b.kind && intersects(a.box, b.box);
+  };
   std::vector<Edge> out;
   for (const Entity& t : entities) {
     if (!t.movable) continue;
     // What the rays say t rests on (kNoNode: nothing, or no scene to cast into).
     NodeId rests_on = kNoNode;
     if (scene) {
-      const Support s = supportBelow(*scene, t.box, t.node, o.support);
-      if (s.fraction >= o.min_support) rests_on = s.node;
+      // The rays pass through t itself, its duplicates and what is no entity (a tentative track).
+      auto passes = [&](NodeId n) {
+        if (n == t.node) return true;
+        if (n == map_node) return false;
+        const auto it = std::find_if(entities.begin(), entities.end(), [n](const Entity& e) { return e.movable && e.node == n; });
+        return it == entities.end() || duplicates(t, *it);
+      };
+      const std::vector<Support> all = supportsBelow(*scene, t.box, passes, o.support);
+      if (!all.empty() && all.front().fraction >= o.min_support) rests_on = all.front().node;
     }
     for (const Entity& r : entities) {
-      if (&r == &t) continue;
+      if (&r == &t || duplicates(t, r)) continue;
       const NodeId r_node = r.movable ? r.node : map_node;
       const bool rests_on_r = rests_on != kNoNode && rests_on == r_node;
       const bool in = r.movable && (contains(r.box, t.box, o.box.tolerance) ||

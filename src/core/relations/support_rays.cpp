@@ -38,6 +38,11 @@ std::vector<WorldRay> gridRays(const OrientedBox& object, double bottom, const S
 
 std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self,
                                    const SupportOptions& o) {
+  return supportsBelow(scene, object, [self](NodeId n) { return n == self; }, o);
+}
+
+std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
+                                   const std::function<bool(NodeId)>& passes_through, const SupportOptions& o) {
   double bottom = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& c : corners(object)) bottom = std::min(bottom, c.z());
   // Rays reach far enough to leave a solid they start in (an object sunk into a table top).
@@ -46,13 +51,14 @@ std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox&
   const double cast_count = static_cast<double>(rays.size());
   std::map<NodeId, std::pair<int, double>> by_node;  // rays, summed gap
   RayHits hits;
-  for (int round = 0; round <= o.self_skips && !rays.empty(); ++round) {
+  constexpr int kOtherSolids = 2;  // passed through besides its own, two passes each (in and out)
+  for (int round = 0; round <= o.self_skips + 2 * kOtherSolids && !rays.empty(); ++round) {
     scene.cast(rays, hits);
     std::vector<WorldRay> again;  // rays that hit the object itself continue below that hit
     for (std::size_t i = 0; i < rays.size(); ++i) {
       if (!hits.hit(i)) continue;
       const float z = hits.point[i].z();
-      if (hits.node[i] == self) {
+      if (passes_through(hits.node[i])) {
         const float rest = rays[i].far - (rays[i].origin.z() - z) - kStep;
         if (rest > 0.0f) again.push_back({hits.point[i] - Eigen::Vector3f(0, 0, kStep), rays[i].direction, rest});
         continue;
