@@ -130,7 +130,9 @@ struct PipelineOptions {
   // A detection restarts a lost track only when the measurements support it better than the
   // track's own pose: both are refined briefly (orientation_refiner), fits from too few points
   // scored too, and the detection must win by the search's own_margin; a tie (nothing seen of
-  // either: a hidden object) keeps the track. In the detector demo the screwdriver at 2.5 m,
+  // either: a hidden object) keeps the track. A track sunk into the static map (max_sunk_fraction)
+  // does not compete: nothing real is there (workbench_alt: the multimeter, lost while the person
+  // reached over it, coasted 3 cm down into the bench). In the detector demo the screwdriver at 2.5 m,
   // lost for want of points (5-15 rays), was put back 6-9 cm short along its axis by every
   // detection, and half hidden by the passing material box, dragged 4 cm towards the robot.
   bool contest_restarts = true;
@@ -252,7 +254,7 @@ class FramePipeline {
   // most of those that would reach it without the other tracks (max_hidden_fraction_for_absence)
   // find no surface there (inlier ratio below the refiner's). frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
-  bool sunkIntoMap(const Track& t) const;
+  bool sunkIntoMap(const std::string& class_name, const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
   // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.
   bool isChild(NodeId node) const { return graph_.node(node).parent != kWorldNode; }
   // A track (not a child) whose recent fits the measurements contradict (fit support below

@@ -246,7 +246,7 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     }
   }
   for (Track& t : tracks_) {
-    if (isChild(t.out.node) || !sunkIntoMap(t)) t.sunk_since = -1.0;
+    if (isChild(t.out.node) || !sunkIntoMap(t.out.class_name, t.out.T_map_object)) t.sunk_since = -1.0;
     else if (t.sunk_since < 0.0) t.sunk_since = stamp;
   }
   for (std::size_t k = tracks_.size(); k-- > 0;) {

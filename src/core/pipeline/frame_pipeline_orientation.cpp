@@ -14,7 +14,7 @@ void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) 
   prior.world_up = Eigen::Vector3d::UnitZ();
   prior.weak_fits_score = true;
   for (Track& t : tracks_) {
-    if (!t.before_restart) continue;
+    if (!t.before_restart || sunkIntoMap(t.out.class_name, t.before_restart->pose())) continue;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};  // the incumbent first
     const OrientationChoice choice =

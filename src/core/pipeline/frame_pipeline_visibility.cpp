@@ -61,11 +61,11 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
 }
 
-bool FramePipeline::sunkIntoMap(const Track& t) const {
+bool FramePipeline::sunkIntoMap(const std::string& class_name, const Eigen::Isometry3d& T_map_object) const {
   const MeshId map = scene_.staticMapMesh();
   if (map < 0 || options_.max_sunk_fraction >= 1.0) return false;
-  const std::vector<Eigen::Vector3f>& samples = class_samples_.at(t.out.class_name);
-  const Eigen::Isometry3f T = t.out.T_map_object.cast<float>();
+  const std::vector<Eigen::Vector3f>& samples = class_samples_.at(class_name);
+  const Eigen::Isometry3f T = T_map_object.cast<float>();
   const float tolerance = static_cast<float>(options_.sink_tolerance_m);
   std::size_t sunk = 0;
   for (const Eigen::Vector3f& p_object : samples) {
