@@ -32,7 +32,8 @@ struct Phase {
   SimulatedScan scan = {};
 };
 
-Phase phase(const test::BenchScene& bench, const PinholeModel& cam, double distance, const Eigen::Isometry3d& detected) {
+Phase phase(const test::BenchScene& bench, const PinholeModel& cam, double distance,
+            const Eigen::Isometry3d& detected) {
   Phase p{cam, {}, {}, detected};
   std::tie(p.T_map_base, p.T_camera) = test::facingTheBench(bench, distance);
   p.rays = std::make_shared<SensorRays>(makeRays(cam));
@@ -40,13 +41,17 @@ Phase phase(const test::BenchScene& bench, const PinholeModel& cam, double dista
   return p;
 }
 
+PipelineOptions contestOptions(bool contest_restarts) {
+  PipelineOptions o;
+  o.localize = false;
+  o.contest_restarts = contest_restarts;
+  return o;
+}
+
 // 30 frames of `first`, 45 of `then` (30 Hz), depth noise `sigma` (at 1 m); the screwdriver
 // track scored against `truth` over the last 15.
 Figures run(const test::BenchScene& bench, const Phase& first, const Phase& then, const Eigen::Isometry3d& truth,
-            double sigma, bool contest_restarts) {
-  PipelineOptions options;
-  options.localize = false;
-  options.contest_restarts = contest_restarts;
+            double sigma, const PipelineOptions& options) {
   FramePipeline pipeline(bench.catalog, bench.map, options);
   Figures f;
   double sum = 0.0;
@@ -82,7 +87,7 @@ Figures farLostScrewdriver(bool contest_restarts) {
   Eigen::Isometry3d off = truth;
   off.translation() += 0.05 * truth.linear().col(0);
   return run(*bench, phase(*bench, PinholeModel::xtion(), 1.1, truth), phase(*bench, test::qvgaCam(), 2.8, off), truth,
-             0.0005, contest_restarts);
+             0.0005, contestOptions(contest_restarts));
 }
 
 TEST(RestartContest, ADetectionOffAlongTheAxisDoesNotDragAFarLostTrack) {
@@ -90,7 +95,8 @@ TEST(RestartContest, ADetectionOffAlongTheAxisDoesNotDragAFarLostTrack) {
   std::cout << "[ figures  ] far lost screwdriver, detections 5 cm off: error " << with.error_m * 1000 << " mm";
   EXPECT_EQ(with.tracks, 1);
   EXPECT_LT(with.error_m, 0.015) << "m, mean, last 0.5 s";
-  EXPECT_LT(with.worst_inliers, PipelineOptions().refiner.alignment.min_points) << "its fits must be weak (else no test)";
+  EXPECT_LT(with.worst_inliers, PipelineOptions().refiner.alignment.min_points)
+      << "its fits must be weak (else no test)";
   const Figures without = farLostScrewdriver(false);
   std::cout << "; without the contest " << without.error_m * 1000 << " mm\n";
   EXPECT_GT(without.error_m, 0.035) << "m: without the contest every detection restarts it (else no test)";
@@ -106,7 +112,8 @@ Figures movedScrewdriver(bool contest_restarts) {
   const Phase first = phase(*bench, PinholeModel::xtion(), 1.1, before);
   bench->world->setInstancePose(test::BenchScene::objectNode(kScrewdriverIndex), after);
   bench->world->commit();
-  return run(*bench, first, phase(*bench, PinholeModel::xtion(), 1.1, after), after, 0.0015, contest_restarts);
+  const Phase then = phase(*bench, PinholeModel::xtion(), 1.1, after);
+  return run(*bench, first, then, after, 0.0015, contestOptions(contest_restarts));
 }
 
 TEST(RestartContest, AMovedObjectsDetectionStillRestartsItsTrack) {

@@ -129,8 +129,9 @@ struct PipelineOptions {
   double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
   // A detection restarts a lost track only when the measurements support it better than the
   // track's own pose: both are refined briefly (orientation_refiner), fits from too few points
-  // scored too, and the detection must win by the search's own_margin; a tie (nothing seen of
-  // either: a hidden object) keeps the track. A track sunk into the static map (max_sunk_fraction)
+  // scored too, and the detection must win by the search's own_margin with a fit explaining
+  // confirm_inlier_ratio of its rays; a tie (nothing seen of either: a hidden object) keeps the
+  // track. A track sunk into the static map (max_sunk_fraction)
   // does not compete: nothing real is there (workbench_alt: the multimeter, lost while the person
   // reached over it, coasted 3 cm down into the bench). In the detector demo the screwdriver at 2.5 m,
   // lost for want of points (5-15 rays), was put back 6-9 cm short along its axis by every
@@ -272,7 +273,8 @@ class FramePipeline {
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
   void contestRestarts(const std::vector<RangeMeasurements>& sets);  // contest_restarts, for this frame's restarts
-  void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);  // of the tracks in needs_orientation_
+  // Of the tracks in needs_orientation_.
+  void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
   std::string trackIdOf(NodeId node) const;       // "" when no track has that node
   void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);

@@ -16,10 +16,15 @@ void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) 
   for (Track& t : tracks_) {
     if (!t.before_restart || sunkIntoMap(t.out.class_name, t.before_restart->pose())) continue;
     const ObjectClass& c = catalog_->get(t.out.class_name);
-    const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};  // the incumbent first
+    // The incumbent first: it wins ties.
+    const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};
     const OrientationChoice choice =
         chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
-    if (choice.candidate == 0) {  // the track stays: its filter as before, no orientation search
+    // The detection wins only with a fit that explains most of the rays reaching its model, as a
+    // tentative track's must to count: a false one beside a hidden object fits the edge of what
+    // hides it with a quarter of its rays and more inliers than the hidden track has.
+    const bool detection_wins = choice.candidate == 1 && choice.quality.inlier_ratio >= options_.confirm_inlier_ratio;
+    if (!detection_wins) {  // the track stays: its filter as before, no orientation search
       t.filter = *t.before_restart;
       t.out.T_map_object = t.filter.pose();
       needs_orientation_.erase(std::remove(needs_orientation_.begin(), needs_orientation_.end(), t.out.id),

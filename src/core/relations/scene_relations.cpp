@@ -38,7 +38,8 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
       auto passes = [&](NodeId n) {
         if (n == t.node) return true;
         if (n == map_node) return false;
-        const auto it = std::find_if(entities.begin(), entities.end(), [n](const Entity& e) { return e.movable && e.node == n; });
+        const auto it =
+            std::find_if(entities.begin(), entities.end(), [n](const Entity& e) { return e.movable && e.node == n; });
         return it == entities.end() || duplicates(t, *it);
       };
       const std::vector<Support> all = supportsBelow(*scene, t.box, passes, o.support);
