@@ -131,11 +131,11 @@ struct PipelineOptions {
   // track's own pose: both are refined briefly (orientation_refiner), fits from too few points
   // scored too, and the detection must win by the search's own_margin with a fit explaining
   // confirm_inlier_ratio of its rays; a tie (nothing seen of either: a hidden object) keeps the
-  // track. A track sunk into the static map (max_sunk_fraction)
-  // does not compete: nothing real is there (workbench_alt: the multimeter, lost while the person
-  // reached over it, coasted 3 cm down into the bench). In the detector demo the screwdriver at 2.5 m,
-  // lost for want of points (5-15 rays), was put back 6-9 cm short along its axis by every
-  // detection, and half hidden by the passing material box, dragged 4 cm towards the robot.
+  // track. A track sunk into the static map (max_sunk_fraction) does not compete: nothing real is
+  // there (workbench_alt: the multimeter, lost while the person reached over it, coasted 3 cm
+  // down into the bench). In the detector demo the screwdriver at 2.5 m, lost for want of points
+  // (5-15 rays), was put back 6-9 cm short along its axis by every detection, and half hidden by
+  // the passing material box, dragged 4 cm towards the robot.
   bool contest_restarts = true;
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24

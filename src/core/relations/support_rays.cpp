@@ -34,15 +34,10 @@ std::vector<WorldRay> gridRays(const OrientedBox& object, double bottom, const S
   return rays;
 }
 
-}  // namespace
-
-std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self,
-                                   const SupportOptions& o) {
-  return supportsBelow(scene, object, [self](NodeId n) { return n == self; }, o);
-}
-
-std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
-                                   const std::function<bool(NodeId)>& passes_through, const SupportOptions& o) {
+// `other_solids`: solids besides its own that a ray may pass through (two passes each, in and out).
+std::vector<Support> castSupportRays(const RaycastScene& scene, const OrientedBox& object,
+                                     const std::function<bool(NodeId)>& passes_through, int other_solids,
+                                     const SupportOptions& o) {
   double bottom = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& c : corners(object)) bottom = std::min(bottom, c.z());
   // Rays reach far enough to leave a solid they start in (an object sunk into a table top).
@@ -51,8 +46,7 @@ std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox&
   const double cast_count = static_cast<double>(rays.size());
   std::map<NodeId, std::pair<int, double>> by_node;  // rays, summed gap
   RayHits hits;
-  constexpr int kOtherSolids = 2;  // passed through besides its own, two passes each (in and out)
-  for (int round = 0; round <= o.self_skips + 2 * kOtherSolids && !rays.empty(); ++round) {
+  for (int round = 0; round <= o.self_skips + 2 * other_solids && !rays.empty(); ++round) {
     scene.cast(rays, hits);
     std::vector<WorldRay> again;  // rays that hit the object itself continue below that hit
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -79,6 +73,18 @@ std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox&
   for (const auto& [node, value] : by_node) out.push_back({node, value.first / cast_count, value.second / value.first});
   std::sort(out.begin(), out.end(), [](const Support& a, const Support& b) { return a.fraction > b.fraction; });
   return out;
+}
+
+}  // namespace
+
+std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self,
+                                   const SupportOptions& o) {
+  return castSupportRays(scene, object, [self](NodeId n) { return n == self; }, 0, o);
+}
+
+std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
+                                   const std::function<bool(NodeId)>& passes_through, const SupportOptions& o) {
+  return castSupportRays(scene, object, passes_through, 2, o);
 }
 
 Support supportBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self, const SupportOptions& o) {
