@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/relations/scene_relations.hpp"
 
 #include <algorithm>
+#include <set>
 
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 
@@ -28,25 +29,27 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
   auto duplicates = [](const Entity& a, const Entity& b) {
     return a.movable && b.movable && !a.kind.empty() && a.kind == b.kind && intersects(a.box, b.box);
   };
+  std::set<NodeId> entity_nodes;  // of the tracked objects
+  for (const Entity& e : entities)
+    if (e.movable) entity_nodes.insert(e.node);
   std::vector<Edge> out;
   for (const Entity& t : entities) {
     if (!t.movable) continue;
-    // What the rays say t rests on (kNoNode: nothing, or no scene to cast into).
+    std::set<NodeId> twins;  // nodes of t's duplicates, judged once per t
+    for (const Entity& r : entities)
+      if (&r != &t && duplicates(t, r)) twins.insert(r.node);
+    // What the rays say t rests on (kNoNode: nothing, or no scene to cast into). They pass
+    // through t itself, its duplicates and what is no entity (a tentative track).
     NodeId rests_on = kNoNode;
     if (scene) {
-      // The rays pass through t itself, its duplicates and what is no entity (a tentative track).
       auto passes = [&](NodeId n) {
-        if (n == t.node) return true;
-        if (n == map_node) return false;
-        const auto it =
-            std::find_if(entities.begin(), entities.end(), [n](const Entity& e) { return e.movable && e.node == n; });
-        return it == entities.end() || duplicates(t, *it);
+        return n == t.node || (n != map_node && (!entity_nodes.count(n) || twins.count(n)));
       };
       const std::vector<Support> all = supportsBelow(*scene, t.box, passes, o.support);
       if (!all.empty() && all.front().fraction >= o.min_support) rests_on = all.front().node;
     }
     for (const Entity& r : entities) {
-      if (&r == &t || duplicates(t, r)) continue;
+      if (&r == &t || (r.movable && twins.count(r.node))) continue;
       const NodeId r_node = r.movable ? r.node : map_node;
       const bool rests_on_r = rests_on != kNoNode && rests_on == r_node;
       const bool in = r.movable && (contains(r.box, t.box, o.box.tolerance) ||
