@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/geometry/rigid.hpp"
+#include "scene_graph_tracker/pipeline/pipeline_options.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
 #include "scene_graph_tracker/relations/relation_hysteresis.hpp"
@@ -55,119 +56,6 @@ struct PipelineFrame {
   // T_world_sensor of each set holds T_odom_sensor on input (odometry at the set's own stamp).
   std::vector<RangeMeasurements> measurements;
   std::vector<PoseHypothesis> hypotheses;
-};
-
-struct PipelineOptions {
-  RefinerOptions refiner;
-  LocalizerOptions localizer;
-  PresegmentOptions presegmentation;
-  PoseFilterNoise motion;
-  bool localize = true;
-  bool localize_with_lidar_only = true;  // depth images near a bench add little but cost rays
-  // Whether tracked objects stay in the scene while the robot localizes (their points are then
-  // explained and dropped). Off by default: the robot pose must not depend on object tracks,
-  // which may be wrong exactly when the robot pose is (a track a few cm off hides the map
-  // behind it); without them, points on objects are outliers that the threshold drops.
-  bool localize_against_objects = false;
-  // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise,
-  // as much as a screwdriver's radius) only when the frame has no depth image or when this is set.
-  bool refine_with_lidar = false;
-  double min_hypothesis_score = 0.3;
-  double association_distance = 0.15;  // m, hypothesis to a track's prediction (same class)
-  double reacquire_distance = 0.6;     // m, for tracks that are not currently refined well
-  int confirm_hits = 3;                // good refinements that confirm a tentative track ...
-  // ... and detections associated with it (the one that started it counts). Refinement alone
-  // confirmed a single false detection on an unknown box of about the right size, and the
-  // confirmed track then explained the box's points (pre-segmentation recall 0.71 in the demo).
-  int confirm_detections = 3;
-  double confirm_inlier_ratio = 0.55;  // ... and whose fits explain at least this fraction of their rays
-  // A tentative track's fit from fewer inliers than the refiner's alignment.min_points still
-  // places the track when it has min_weak_fit_inliers and explains confirm_inlier_ratio of the
-  // rays reaching the model: the next frame refines from there rather than from the detection
-  // (it counts neither as a hit nor towards fit support). In the detector demo the screwdriver
-  // at 2.6-2.8 m shows 5-15 rays and its detections are 7-15 cm off along its axis: each fit
-  // got half way to it, and the next detection put the track back.
-  int min_weak_fit_inliers = 6;
-  // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
-  // a track's good fits, i.e. the share of the rays reaching its model that its measurements
-  // agree with (the others pass through the model to something behind it). Confirmation needs
-  // it at min_fit_support as well, so a few lucky fits among poor ones do not confirm; a
-  // confirmed track below it collects evidence of absence and explains no points in
-  // pre-segmentation. In the detector demo, models fitted to the walking person fell to
-  // 0.3-0.5 within a second of being confirmed; real objects stayed at 0.75 and above
-  // (0.59 for three frames of the multimeter right after it was confirmed).
-  double fit_support_weight = 0.25;
-  double min_fit_support = 0.65;
-  // A track whose model lies partly inside the static map is nowhere a real object can be:
-  // when more than max_sunk_fraction of its surface samples are deeper than sink_tolerance_m
-  // behind the map's surface (its triangles' winding side), for remove_after_s, it goes, seen or
-  // not. In the detector demo, false tracks sank 2-5 cm into the bench and the floor, where the
-  // map hid them from every ray and no other evidence of absence reached them. Needs a map mesh
-  // wound outwards (or towards where it was scanned from); 1 turns it off.
-  double max_sunk_fraction = 0.2;
-  double sink_tolerance_m = 0.01;
-  double remove_after_s = 1.0;         // evidence of absence for this long removes a track
-  double remove_tentative_after_s = 0.3;
-  double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
-  double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
-  int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
-  // Depth noise grows with range squared: a fit of an object farther than this from the sensor
-  // counts as a weaker measurement, its covariance scaled by (range / far_fit_from_m)^4. At 2.8 m
-  // the screwdriver's fits scatter by +-2 cm (depth sigma 12 mm); without it the filter followed
-  // that scatter and its velocity carried the track 3 cm up when the object was hidden.
-  double far_fit_from_m = 1.0;
-  // Evidence of absence needs most of a confirmed object in view: when other tracked objects
-  // cover more than this fraction of the rays that would reach it without them, the few rays
-  // left (which graze the occluder and miss a track only a little off) are no evidence and the
-  // track coasts.
-  double max_hidden_fraction_for_absence = 0.5;
-  // A lost track ignores fits farther than this from where it was lost, or explaining less than
-  // this fraction of the rays that reach it, until a hypothesis restarts it (associate():
-  // reacquire_distance); such fits are no evidence of absence either.
-  double lost_track_max_jump_m = 0.03;
-  double lost_track_resume_inlier_ratio = 0.8;
-  double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
-  // A detection restarts a lost track only when the measurements support it better than the
-  // track's own pose: both are refined briefly (orientation_refiner), fits from too few points
-  // scored too, and the detection must win by the search's own_margin with a fit explaining
-  // confirm_inlier_ratio of its rays; a tie (nothing seen of either: a hidden object) keeps the
-  // track. A track sunk into the static map (max_sunk_fraction) does not compete: nothing real is
-  // there (workbench_alt: the multimeter, lost while the person reached over it, coasted 3 cm
-  // down into the bench). In the detector demo the screwdriver at 2.5 m, lost for want of points
-  // (5-15 rays), was put back 6-9 cm short along its axis by every detection, and half hidden by
-  // the passing material box, dragged 4 cm towards the robot.
-  bool contest_restarts = true;
-  // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
-  // restarts from a detection, it is refined briefly from its rotation turned by each of the 24
-  // axis permutations of its box and goes on from the one the measurements support best.
-  // For keypoint detectors, which confuse box corners (evaluate --detector and tracker.launch
-  // with detector:=true turn it on). Off by default: with simulated hypotheses (2 deg noise) it
-  // flipped the paper's nearly symmetric multimeter. Tentative tracks (mostly false positives)
-  // are not searched: a search costs ~20 ms.
-  bool search_orientations = false;
-  int max_orientation_searches = 1;  // per frame (each refines 24 candidates): others wait a frame
-  double orientation_search_interval_s = 2.0;  // a track is searched again no sooner than this
-  // A confirmed track whose fit support stays below this is searched again (every
-  // orientation_search_interval_s): a wrong turn explains fewer of its rays. In the detector demo
-  // with scenario seed 44 the search at confirmation, 2.8 m away, turned the material box by 90 deg
-  // about z; its fit support then stayed at 0.75-0.86 (right tracks: 0.95 and more), and it kept
-  // that turn to the end (ADD-S 11 mm). 0 turns it off.
-  double research_below_fit_support = 0.9;
-  RefinerOptions orientation_refiner = orientationRefinerDefaults();
-  bool run_presegmentation = true;
-  bool compute_relations = true;
-  relations::SceneRelationOptions relation_options;
-  relations::HysteresisOptions relation_hysteresis;
-  bool reparent = true;  // a track in / on another track becomes its child in the scene graph
-  PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
-  static RefinerOptions orientationRefinerDefaults() {
-    RefinerOptions o;
-    o.rounds = 3;
-    o.ray_stride = 2;
-    o.full_resolution_last_round = false;
-    o.max_dist_last = 0.02f;
-    return o;
-  }
 };
 
 enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
