@@ -1,27 +1,14 @@
-// The per-frame pipeline: localize -> associate hypotheses -> refine -> pre-segment. The offline
-// evaluator and the ROS nodelet both feed it frames; neither re-implements any step.
+// The per-frame pipeline, the paper's stages in order: localize the robot against the static map,
+// predict the tracks and associate the pose hypotheses with them, refine every track by ray
+// casting, advance each track's life cycle (tracking/track_lifecycle.hpp), compute relations and
+// re-parent, pre-segment the measurements. The offline evaluator and the ROS nodelet both feed it
+// frames; neither re-implements any step.
 //
-// Frames: measurements arrive with their sensor poses in the odom frame (odometry). The pipeline
-// keeps the map -> odom correction: it localizes the robot against the static map when a frame
-// carries a LiDAR scan (or any sensor, see options), applies the correction to every sensor, and
-// keeps it for the frames in between. Pose hypotheses (from a detector or the simulator) come in
-// the base frame, are moved into the map with the corrected robot pose, and are assigned to the
-// tracks of their class (Hungarian, gated by distance to the prediction); an unmatched hypothesis
-// starts a tentative track. Every track is predicted by its Kalman filter (constant velocity),
-// refined from the prediction, and updated with the refined pose when the refinement is good
-// (otherwise it coasts on the prediction; a hypothesis re-initialises a track whose refinement
-// failed). A track is removed only on evidence of absence: it should show points (its rays
-// are not blocked by anything closer, known or unknown) yet gets no correspondences for
-// remove_after_s; an occluded or out-of-view track just coasts.
-//
-// Relations: after refinement, the relations among confirmed tracks (confirmed or lost) and the
-// static furniture (setFurniture) are computed (relations/scene_relations.hpp), held back by
-// hysteresis (an edge shows after holding appear_frames frames, goes after failing
-// disappear_frames) and returned as edges. With `reparent`, a track that is in or on another
-// track becomes its child in the scene graph (world pose unchanged), and back under the world when
-// that ends. A child is predicted with its parent: it keeps its pose relative to the parent, so
-// a relay inside a carried KLT moves with it even while the KLT's walls hide it; a child gathers
-// no evidence of absence (it goes when the relation ends and it is then seen missing).
+// Frames: measurements arrive with their sensor poses in the odom frame. The pipeline keeps the
+// map -> odom correction from localization and applies it to every sensor. Hypotheses come in the
+// base frame and are moved into the map with the corrected robot pose. Each track has a
+// constant-velocity Kalman filter; a child in the scene graph (in or on another track) is
+// predicted with its parent, keeping its pose relative to it.
 #pragma once
 
 #include <map>
@@ -41,6 +28,7 @@
 #include "scene_graph_tracker/scene/scene_graph.hpp"
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
+#include "scene_graph_tracker/tracking/track_lifecycle.hpp"
 
 namespace sgt {
 
@@ -58,9 +46,6 @@ struct PipelineFrame {
   std::vector<PoseHypothesis> hypotheses;
 };
 
-enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
-const char* toString(TrackState s);
-
 struct TrackedObject {
   NodeId node = kNoNode;
   std::string id;  // class + number, e.g. "klt_1"; never reused
@@ -71,8 +56,8 @@ struct TrackedObject {
   TrackState state = TrackState::kTentative;
   ObjectQuality quality;  // of this frame's refinement
   double first_seen = 0.0, last_refined = 0.0, last_hypothesis = 0.0;
-  int hits = 0;
-  int detections = 0;  // hypotheses associated with the track (a track added by hand counts as confirmed)
+  int hits = 0;        // good fits that counted towards confirmation
+  int detections = 0;  // hypotheses associated with it (a track added by hand counts as confirmed)
 };
 
 struct StageTimes {
@@ -122,50 +107,58 @@ class FramePipeline {
 
  private:
   struct Track {
-    TrackedObject out;
+    TrackedObject out;  // pose and quality; its life-cycle fields are filled from `life` on output
+    TrackLife life;
     PoseFilter filter;
-    double absent_since = -1.0;  // < 0: no evidence of absence
-    double sunk_since = -1.0;    // < 0: not inside the static map
-    double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
-    double last_orientation_search = -1e9;
-    // A lost track's filter when a detection restarted it: contestRestarts() weighs its pose
-    // against the detection's (a hidden object seldom moved; the detector's pose of a thin one is
-    // often centimetres off).
+    // A lost track's filter when a detection restarted it: the restart contest weighs its pose
+    // against the detection's.
     std::optional<PoseFilter> before_restart = std::nullopt;
   };
+  // Stages of process().
+  void localize(PipelineFrame& frame, PipelineResult& out);
+  std::vector<RangeMeasurements> localizationSets(const std::vector<RangeMeasurements>& sets) const;
+  std::vector<RangeMeasurements> objectSets(const std::vector<RangeMeasurements>& sets) const;
+  std::vector<PoseHypothesis> acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses) const;
   void predict(double stamp);
-  void setTracksEnabled(bool enabled);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
+  void refineTracks(const std::vector<RangeMeasurements>& sets, double stamp, std::vector<std::string>& dropped);
+  void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);
+  std::vector<Presegmentation> presegmentAll(const std::vector<RangeMeasurements>& sets);
+  std::vector<TrackedObject> snapshot() const;
+
+  // Association (frame_pipeline_association.cpp).
+  Eigen::MatrixXd associationCosts(const std::vector<PoseHypothesis>& hypotheses,
+                                   const std::vector<Eigen::Isometry3d>& in_map, double forbidden) const;
+  void restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object);
+
+  // Life cycle (frame_pipeline_lifecycle.cpp): apply this frame's fits to the filters, gather the
+  // evidence that needs the scene, advance every track, remove those that go.
   void updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets, double stamp,
                     std::vector<std::string>& dropped);
-  // Whether the measurements show track k missing at its current pose in the scene (not where a
-  // failed refinement drifted to): of the rays that reach its model, enough (min_points) and
-  // most of those that would reach it without the other tracks (max_hidden_fraction_for_absence)
-  // find no surface there (inlier ratio below the refiner's). frame_pipeline_visibility.cpp.
+  TrackEvidence applyFit(std::size_t k, const ObjectEstimate& fit, const std::vector<RangeMeasurements>& sets,
+                         double stamp, const LifecycleOptions& lo);
+  void gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
+                           const std::vector<std::size_t>& order, const std::vector<RangeMeasurements>& sets);
+  void dropTrack(std::size_t k);
+  LifecycleOptions lifecycleOptions() const;
+  void setTracksEnabled(bool enabled);
+
+  // Whether the measurements show track k missing at its current pose in the scene: of the rays
+  // that reach its model, enough (min_points) and most of those that would reach it without the
+  // other tracks (max_hidden_fraction_for_absence) find no surface there. frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
   bool sunkIntoMap(const std::string& class_name, const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
   // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.
   bool isChild(NodeId node) const { return graph_.node(node).parent != kWorldNode; }
-  // A track (not a child) whose recent fits the measurements contradict (fit support below
-  // min_fit_support).
-  bool unsupported(const Track& t) const {
-    return !isChild(t.out.node) && t.fit_support >= 0.0 && t.fit_support < options_.min_fit_support;
-  }
-  // A tentative track (not a child) whose last fit had too few points but min_weak_fit_inliers
-  // explaining confirm_inlier_ratio of its rays: that fit places it, and no detection resets it.
-  bool placedByWeakFit(const Track& t) const {
-    const ObjectQuality& q = t.out.quality;
-    return !isChild(t.out.node) && t.out.state == TrackState::kTentative && q.status == RefineStatus::kTooFewPoints &&
-           q.inliers >= options_.min_weak_fit_inliers && q.inlier_ratio >= options_.confirm_inlier_ratio;
-  }
+  bool unsupported(const Track& t) const;      // FitSupport::unsupported
+  bool placedByWeakFit(const Track& t) const;  // WeakFitPlacement, from its last fit
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
-  void contestRestarts(const std::vector<RangeMeasurements>& sets);  // contest_restarts, for this frame's restarts
+  void contestRestarts(const std::vector<RangeMeasurements>& sets);  // RestartContest, this frame's restarts
   // Of the tracks in needs_orientation_.
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
   std::string trackIdOf(NodeId node) const;       // "" when no track has that node
-  void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);
   void reparent(const std::vector<relations::Edge>& edges);
 
   std::shared_ptr<const ObjectCatalog> catalog_;

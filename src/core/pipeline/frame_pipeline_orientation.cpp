@@ -10,21 +10,19 @@
 namespace sgt {
 
 void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) {
+  const LifecycleOptions lo = lifecycleOptions();
   OrientationPrior prior;
   prior.world_up = Eigen::Vector3d::UnitZ();
   prior.weak_fits_score = true;
   for (Track& t : tracks_) {
-    if (!t.before_restart || sunkIntoMap(t.out.class_name, t.before_restart->pose())) continue;
+    if (!t.before_restart || !RestartContest::competes(sunkIntoMap(t.out.class_name, t.before_restart->pose()))) continue;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     // The incumbent first: it wins ties.
     const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};
     const OrientationChoice choice =
         chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
-    // The detection wins only with a fit that explains most of the rays reaching its model, as a
-    // tentative track's must to count: a false one beside a hidden object fits the edge of what
-    // hides it with a quarter of its rays and more inliers than the hidden track has.
-    const bool detection_wins = choice.candidate == 1 && choice.quality.inlier_ratio >= options_.confirm_inlier_ratio;
-    if (!detection_wins) {  // the track stays: its filter as before, no orientation search
+    if (!RestartContest::detectionWins(choice.candidate, choice.quality.inlier_ratio, lo)) {
+      // The track stays: its filter as before, no orientation search.
       t.filter = *t.before_restart;
       t.out.T_map_object = t.filter.pose();
       needs_orientation_.erase(std::remove(needs_orientation_.begin(), needs_orientation_.end(), t.out.id),
@@ -51,8 +49,9 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     const auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.out.id == id; });
     if (it == tracks_.end()) continue;
     Track& t = *it;
-    if (stamp - t.last_orientation_search < options_.orientation_search_interval_s) continue;  // a lost track
-    t.last_orientation_search = stamp;                                                         // restarting again
+    // A lost track restarting again soon waits.
+    if (stamp - t.life.last_orientation_search < options_.orientation_search_interval_s) continue;
+    t.life.last_orientation_search = stamp;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     ++searched;
     const std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);

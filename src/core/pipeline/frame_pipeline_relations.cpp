@@ -12,7 +12,7 @@ std::string FramePipeline::trackIdOf(NodeId node) const {
 void FramePipeline::updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets) {
   std::vector<relations::Entity> entities = furniture_;
   for (const Track& t : tracks_) {
-    if (t.out.state == TrackState::kTentative) continue;
+    if (t.life.state == TrackState::kTentative) continue;
     const Eigen::AlignedBox3d box = catalog_->get(t.out.class_name).box.cast<double>();
     entities.push_back({t.out.id, t.out.node, relations::orientedBox(box, t.out.T_map_object), true, t.out.class_name});
   }

@@ -1,0 +1,168 @@
+// The life of a track, decided from plain evidence:
+//
+//   tentative --confirmed--> confirmed --no fit--> lost --fit or restart--> confirmed
+//       |                        |                  |
+//       +-- stale, absent, sunk -+------------------+--> removed
+//
+// The pipeline gathers the evidence (this frame's refinement, ray counts, the static map, the
+// detections, the scene graph) into plain structs and applies what the policies decide. Each rule
+// is a named policy below; next() combines them into the one transition of a frame. None of them
+// needs a ray-casting scene, so each is tested on hand-written evidence.
+#pragma once
+
+#include "scene_graph_tracker/registration/object_refiner.hpp"
+
+namespace sgt {
+
+enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
+const char* toString(TrackState s);
+
+// The life-cycle options (PipelineOptions holds them under the same names; see there for units).
+struct LifecycleOptions {
+  double association_distance = 0.15;
+  double reacquire_distance = 0.6;
+  int confirm_hits = 3;
+  int confirm_detections = 3;
+  double confirm_inlier_ratio = 0.55;
+  int min_weak_fit_inliers = 6;
+  double fit_support_weight = 0.25;
+  double min_fit_support = 0.65;
+  double remove_after_s = 1.0;
+  double remove_tentative_after_s = 0.3;
+  double tentative_timeout_s = 1.0;
+  double lost_track_max_jump_m = 0.03;
+  double lost_track_resume_inlier_ratio = 0.8;
+  double research_below_fit_support = 0.9;
+  double orientation_search_interval_s = 2.0;
+  int min_points = 12;            // the refiner's alignment.min_points: a fit needs this many
+  double min_inlier_ratio = 0.3;  // the refiner's: below it a fit explains nothing there
+};
+
+// What a track knows of its own history.
+struct TrackLife {
+  TrackState state = TrackState::kTentative;
+  int hits = 0;                // good fits that counted towards confirmation
+  int detections = 0;          // hypotheses associated with the track
+  double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
+  double absent_since = -1.0;  // < 0: no evidence of absence
+  double sunk_since = -1.0;    // < 0: not inside the static map
+  double last_hypothesis = 0.0;
+  double last_orientation_search = -1e9;
+};
+
+// What one frame says about a track.
+struct TrackEvidence {
+  double stamp = 0.0;
+  bool child = false;              // in or on another track (its scene-graph parent moves it)
+  ObjectQuality fit;               // this frame's refinement
+  double fit_jump_m = 0.0;         // how far the refinement moved it
+  bool absence_seen = false;       // a coasting track: the rays that should reach it find nothing
+  bool sunk = false;               // its model lies partly inside the static map
+  bool queued_for_search = false;  // an orientation search is already pending for it
+};
+
+// What this frame's refinement does to the track's pose.
+enum class FitUse {
+  kPlace,   // a weak fit places a tentative track (filter restarted there)
+  kUpdate,  // a good fit updates the filter
+  kCoast,   // no usable fit: the track coasts on its prediction (or with its parent)
+};
+
+struct Transition {
+  TrackLife life;                   // after this frame
+  FitUse fit_use = FitUse::kCoast;
+  bool search_orientation = false;  // queue an orientation search for it
+  bool remove = false;
+};
+
+// A tentative track's fit from fewer points than a full fit needs still places it when it has
+// min_weak_fit_inliers that explain confirm_inlier_ratio of its rays (a far, small object): the
+// next frame refines from there, and no detection resets it. It counts neither as a hit nor
+// towards fit support.
+struct WeakFitPlacement {
+  static bool places(TrackState state, bool child, const ObjectQuality& fit, const LifecycleOptions& o);
+};
+
+// A lost track stays where it was lost unless a detection restarts it or it is seen whole again:
+// a fit farther than lost_track_max_jump_m fitted something else, and one explaining less than
+// lost_track_resume_inlier_ratio of its rays is a glimpse past an occluder.
+struct LostTrackResume {
+  static bool rejects(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+};
+
+// The running share of the rays reaching a track's model that its good fits explain.
+struct FitSupport {
+  static double next(double support, double inlier_ratio, const LifecycleOptions& o);
+  // A track (not a child, whose fits its parent cuts) whose fits the measurements contradict:
+  // evidence of absence, and it explains no points in pre-segmentation.
+  static bool unsupported(bool child, double support, const LifecycleOptions& o);
+};
+
+// A tentative track becomes a confirmed one after confirm_hits good fits that explain
+// confirm_inlier_ratio of their rays, confirm_detections detections and min_fit_support.
+struct Confirmation {
+  static bool countsAsHit(TrackState state, double inlier_ratio, const LifecycleOptions& o);
+  static bool confirmed(const TrackLife& life, const LifecycleOptions& o);
+};
+
+// Evidence of absence of a tentative track, from its failed refinement alone: it should show
+// points but its fit failed, unless the fit was degenerate on what it should show (a degenerate
+// fit from the few planar points left where a thing was taken from a table is absence).
+struct TentativeAbsence {
+  static bool absent(const ObjectQuality& fit, const LifecycleOptions& o);
+};
+
+// A child (in or on another track) is where its parent holds it: it keeps the narrow association
+// gate, its fits are not weighed by distance, and it gathers no evidence of absence.
+struct ChildOfContainer {
+  static bool collectsAbsence(bool child) { return !child; }
+};
+
+// A confirmed track whose fits explain less than research_below_fit_support of its rays may be
+// turned: searched again, no sooner than orientation_search_interval_s after the last search.
+struct OrientationReSearch {
+  static bool due(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+};
+
+// The model lies partly inside the static map: nowhere a real object can be.
+struct SunkInMap {
+  static double since(double sunk_since, bool child, bool sunk, double stamp);
+};
+
+// A track goes after remove_after_s (tentative: remove_tentative_after_s) of evidence of absence
+// or of lying in the map, and a tentative one also tentative_timeout_s after its last detection.
+struct Removal {
+  static bool removes(const TrackLife& life, double stamp, const LifecycleOptions& o);
+};
+
+// Association of detections with tracks.
+struct DetectionAssociation {
+  // A track refined well this frame, or a child, is matched within association_distance; one
+  // whose fit failed may have moved unseen (reacquire_distance).
+  static double gate(RefineStatus last_fit, bool child, const LifecycleOptions& o);
+  // A detection restarts a track whose fit failed (unless a weak fit placed it).
+  static bool restarts(RefineStatus last_fit, bool placed_by_weak_fit);
+};
+
+// When a detection restarts a lost track, the track's own pose and the detection's are refined
+// briefly and scored: the detection wins only when it scores better and its fit explains
+// confirm_inlier_ratio of its rays. A track lying in the map does not compete.
+struct RestartContest {
+  static bool competes(bool track_sunk_in_map) { return !track_sunk_in_map; }
+  static bool detectionWins(std::size_t winner, double winner_inlier_ratio, const LifecycleOptions& o);
+};
+
+// Which tracks explain measurements in pre-segmentation: neither tentative ones (a false detection
+// would hide an unknown thing) nor unsupported ones (on their way out).
+struct PresegmentationRole {
+  static bool explainsPoints(TrackState state, bool unsupported) {
+    return state != TrackState::kTentative && !unsupported;
+  }
+};
+
+FitUse useOfFit(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+// The one transition of a frame. Evidence of absence for a coasting confirmed or lost track is
+// e.absence_seen; for a tentative one it comes from the fit (TentativeAbsence).
+Transition next(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+
+}  // namespace sgt

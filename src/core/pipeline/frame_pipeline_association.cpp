@@ -1,0 +1,82 @@
+// FramePipeline: prediction of the tracks to a frame and association of the hypotheses with them.
+#include <algorithm>
+#include <limits>
+
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/tracking/assignment.hpp"
+
+namespace sgt {
+
+void FramePipeline::predict(double stamp) {
+  const double dt = last_stamp_ >= 0.0 ? stamp - last_stamp_ : 0.0;
+  last_stamp_ = stamp;
+  for (Track& t : tracks_) {
+    if (dt > 0.0 && t.out.quality.status != RefineStatus::kOk) t.filter.damp(dt);  // coasting
+    if (dt > 0.0) t.filter.predict(dt);
+  }
+  // A track under the world follows its filter; a child keeps its pose relative to its parent
+  // (moved just before it), so what is in or on a carried object is carried along.
+  for (std::size_t k : parentsFirst()) {
+    Track& t = tracks_[k];
+    if (!isChild(t.out.node)) graph_.setWorldTransform(t.out.node, t.filter.pose());
+    t.out.T_map_object = graph_.worldTransform(t.out.node);
+    scene_.setInstancePose(t.out.node, t.out.T_map_object);
+  }
+}
+
+std::vector<std::size_t> FramePipeline::parentsFirst() const {
+  std::vector<std::pair<int, std::size_t>> by_depth;
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    int depth = 0;
+    for (NodeId n = tracks_[k].out.node; graph_.node(n).parent != kWorldNode; n = graph_.node(n).parent) ++depth;
+    by_depth.emplace_back(depth, k);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  std::vector<std::size_t> order;
+  for (const auto& [depth, k] : by_depth) order.push_back(k);
+  return order;
+}
+
+Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis>& hypotheses,
+                                                const std::vector<Eigen::Isometry3d>& in_map, double forbidden) const {
+  const LifecycleOptions lo = lifecycleOptions();
+  Eigen::MatrixXd cost(hypotheses.size(), tracks_.size());
+  for (std::size_t h = 0; h < hypotheses.size(); ++h)
+    for (std::size_t k = 0; k < tracks_.size(); ++k) {
+      const TrackedObject& o = tracks_[k].out;
+      const double d = (o.T_map_object.translation() - in_map[h].translation()).norm();
+      const double gate = DetectionAssociation::gate(o.quality.status, isChild(o.node), lo);
+      cost(h, k) = o.class_name == hypotheses[h].class_name && d < gate ? d : forbidden;
+    }
+  return cost;
+}
+
+void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
+                              double stamp) {
+  const double forbidden = std::numeric_limits<double>::max();
+  std::vector<Eigen::Isometry3d> in_map(hypotheses.size());
+  for (std::size_t h = 0; h < hypotheses.size(); ++h) in_map[h] = T_map_base * hypotheses[h].T_base_object;
+  const std::vector<int> match = assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
+  for (std::size_t h = 0; h < hypotheses.size(); ++h) {
+    if (match[h] < 0) {  // a new object, or a false detection: a tentative track either way
+      addTrack(hypotheses[h].class_name, in_map[h], stamp);
+      tracks_.back().life.detections = 1;
+      continue;
+    }
+    Track& t = tracks_[match[h]];
+    t.life.last_hypothesis = stamp;
+    ++t.life.detections;
+    if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t))) restartFromDetection(t, in_map[h]);
+  }
+}
+
+void FramePipeline::restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object) {
+  if (t.life.state == TrackState::kLost) t.before_restart = t.filter;  // for the restart contest
+  const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  t.filter.update(T_map_object, C, &catalog_->get(t.out.class_name).symmetry);
+  t.out.T_map_object = T_map_object;
+  scene_.setInstancePose(t.out.node, T_map_object);
+  needs_orientation_.push_back(t.out.id);
+}
+
+}  // namespace sgt

@@ -1,0 +1,271 @@
+// The track life cycle's policies and its transition function on hand-written evidence: no scene,
+// no sensor, only the numbers a frame would give.
+#include <gtest/gtest.h>
+
+#include "scene_graph_tracker/tracking/track_lifecycle.hpp"
+
+namespace sgt {
+namespace {
+
+const LifecycleOptions kOptions;
+
+ObjectQuality fit(RefineStatus status, int inliers, double inlier_ratio, int expected = 200) {
+  ObjectQuality q;
+  q.status = status, q.inliers = inliers, q.inlier_ratio = inlier_ratio, q.expected = expected;
+  return q;
+}
+
+TrackEvidence goodFit(double stamp, double inlier_ratio = 0.9) {
+  TrackEvidence e;
+  e.stamp = stamp;
+  e.fit = fit(RefineStatus::kOk, 300, inlier_ratio);
+  return e;
+}
+
+TrackEvidence noFit(double stamp, RefineStatus status = RefineStatus::kNotVisible) {
+  TrackEvidence e;
+  e.stamp = stamp;
+  e.fit = fit(status, 0, 0.0, 0);
+  return e;
+}
+
+TrackLife confirmedLife(double stamp) {
+  TrackLife life;
+  life.state = TrackState::kConfirmed;
+  life.hits = life.detections = 5;
+  life.fit_support = 0.95;
+  life.last_hypothesis = stamp;
+  return life;
+}
+
+TEST(WeakFitPlacement, PlacesATentativeTrackFromAFewAgreeingPoints) {
+  const ObjectQuality weak = fit(RefineStatus::kTooFewPoints, 8, 0.7);
+  EXPECT_TRUE(WeakFitPlacement::places(TrackState::kTentative, false, weak, kOptions));
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kConfirmed, false, weak, kOptions));  // tentative only
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, true, weak, kOptions));   // not a child
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kTooFewPoints, 5, 0.7),
+                                        kOptions));  // too few
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kTooFewPoints, 8, 0.5),
+                                        kOptions));  // explains too little
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kOk, 8, 0.7), kOptions));
+}
+
+TEST(WeakFitPlacement, TheTransitionPlacesWithoutAHitAndClearsAbsence) {
+  TrackLife life;
+  life.absent_since = 1.0;
+  TrackEvidence e;
+  e.stamp = 1.1;
+  e.fit = fit(RefineStatus::kTooFewPoints, 8, 0.7);
+  const Transition t = next(life, e, kOptions);
+  EXPECT_EQ(t.fit_use, FitUse::kPlace);
+  EXPECT_EQ(t.life.hits, 0);
+  EXPECT_LT(t.life.fit_support, 0.0);
+  EXPECT_LT(t.life.absent_since, 0.0);
+}
+
+TEST(LostTrackResume, RejectsAFarOrPartialFitUntilADetectionRestartsIt) {
+  TrackLife lost = confirmedLife(1.0);
+  lost.state = TrackState::kLost;
+  TrackEvidence e = goodFit(2.0);
+  e.fit_jump_m = 0.02;
+  EXPECT_FALSE(LostTrackResume::rejects(lost, e, kOptions));
+  e.fit_jump_m = 0.1;  // fitted something else
+  EXPECT_TRUE(LostTrackResume::rejects(lost, e, kOptions));
+  EXPECT_EQ(useOfFit(lost, e, kOptions), FitUse::kCoast);
+  e.fit_jump_m = 0.0, e.fit.inlier_ratio = 0.6;  // a glimpse past an occluder
+  EXPECT_TRUE(LostTrackResume::rejects(lost, e, kOptions));
+  lost.last_hypothesis = 2.0;  // restarted by this frame's detection: any good fit goes
+  EXPECT_FALSE(LostTrackResume::rejects(lost, e, kOptions));
+  EXPECT_FALSE(LostTrackResume::rejects(confirmedLife(1.0), e, kOptions));  // only lost tracks
+}
+
+TEST(FitSupport, IsARunningMeanThatStartsAtTheFirstFit) {
+  EXPECT_DOUBLE_EQ(FitSupport::next(-1.0, 0.8, kOptions), 0.8);
+  EXPECT_DOUBLE_EQ(FitSupport::next(0.8, 0.4, kOptions), 0.8 + 0.25 * (0.4 - 0.8));
+  EXPECT_FALSE(FitSupport::unsupported(false, -1.0, kOptions));  // no fit yet
+  EXPECT_TRUE(FitSupport::unsupported(false, 0.5, kOptions));
+  EXPECT_FALSE(FitSupport::unsupported(true, 0.5, kOptions));  // a child's fits are cut by its parent
+  EXPECT_FALSE(FitSupport::unsupported(false, 0.7, kOptions));
+}
+
+TEST(FitSupport, AConfirmedTrackWhoseFitsExplainLittleCollectsAbsenceAndGoes) {
+  TrackLife life = confirmedLife(0.0);
+  life.fit_support = 0.5;
+  Transition t = next(life, goodFit(1.0, 0.4), kOptions);
+  EXPECT_EQ(t.life.state, TrackState::kConfirmed);
+  EXPECT_DOUBLE_EQ(t.life.absent_since, 1.0);
+  EXPECT_FALSE(t.remove);
+  t = next(t.life, goodFit(2.0, 0.4), kOptions);
+  EXPECT_TRUE(t.remove);  // remove_after_s of it
+  // A tentative track's poor fits are no evidence of absence (it has not been confirmed).
+  TrackLife tentative;
+  tentative.last_hypothesis = 1.0;
+  EXPECT_LT(next(tentative, goodFit(1.0, 0.4), kOptions).life.absent_since, 0.0);
+}
+
+TEST(Confirmation, NeedsHitsDetectionsAndSupport) {
+  TrackLife life;
+  life.detections = 3;
+  life.last_hypothesis = 0.0;
+  for (int frame = 0; frame < 2; ++frame) {
+    const Transition t = next(life, goodFit(0.1 * frame), kOptions);
+    EXPECT_EQ(t.life.state, TrackState::kTentative);
+    EXPECT_FALSE(t.search_orientation);
+    life = t.life;
+  }
+  const Transition t = next(life, goodFit(0.2), kOptions);
+  EXPECT_EQ(t.life.state, TrackState::kConfirmed);
+  EXPECT_TRUE(t.search_orientation);  // a real object now: is its rotation the right one?
+  TrackLife few = life;
+  few.detections = 2;
+  EXPECT_EQ(next(few, goodFit(0.2), kOptions).life.state, TrackState::kTentative);
+}
+
+TEST(Confirmation, FitsExplainingTooFewRaysAreNoHits) {
+  EXPECT_FALSE(Confirmation::countsAsHit(TrackState::kTentative, 0.5, kOptions));
+  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kTentative, 0.6, kOptions));
+  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kConfirmed, 0.5, kOptions));
+  TrackLife life;
+  life.detections = 10;
+  for (int frame = 0; frame < 10; ++frame) life = next(life, goodFit(0.1 * frame, 0.5), kOptions).life;
+  EXPECT_EQ(life.hits, 0);
+  EXPECT_EQ(life.state, TrackState::kTentative);
+}
+
+TEST(TentativeAbsence, AFailedFitWhereTheObjectShouldShow) {
+  EXPECT_TRUE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 100), kOptions));
+  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kNotVisible, 0, 0.0, 0), kOptions));  // hidden
+  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 11), kOptions));
+  // A degenerate fit is absence only when its few planar inliers are all the object shows.
+  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kDegenerate, 80, 0.8, 100), kOptions));
+  EXPECT_TRUE(TentativeAbsence::absent(fit(RefineStatus::kDegenerate, 10, 0.1, 100), kOptions));
+}
+
+TEST(Removal, ATentativeTrackGoesQuicklyOnAbsenceAndWhenDetectionsStop) {
+  TrackLife life;
+  life.last_hypothesis = 0.0;
+  const TrackEvidence absent = noFit(0.1, RefineStatus::kFalseHypothesis);
+  TrackEvidence e = absent;
+  e.fit.expected = 100;
+  Transition t = next(life, e, kOptions);
+  EXPECT_DOUBLE_EQ(t.life.absent_since, 0.1);
+  e.stamp = 0.3;
+  EXPECT_FALSE(next(t.life, e, kOptions).remove);
+  e.stamp = 0.5;
+  EXPECT_TRUE(next(t.life, e, kOptions).remove);  // remove_tentative_after_s
+  // Hidden (no evidence either way), it goes tentative_timeout_s after its last detection.
+  EXPECT_FALSE(next(life, noFit(1.0), kOptions).remove);
+  EXPECT_TRUE(next(life, noFit(1.01), kOptions).remove);
+}
+
+TEST(Removal, AConfirmedTrackIsLostWhenUnseenAndGoesOnlyOnEvidenceOfAbsence) {
+  TrackLife life = confirmedLife(0.0);
+  Transition t = next(life, noFit(0.1), kOptions);
+  EXPECT_EQ(t.fit_use, FitUse::kCoast);
+  EXPECT_EQ(t.life.state, TrackState::kLost);
+  for (double stamp = 0.2; stamp < 30.0; stamp += 1.0) {  // hidden for long: kept
+    t = next(t.life, noFit(stamp), kOptions);
+    EXPECT_FALSE(t.remove);
+  }
+  TrackEvidence seen_missing = noFit(30.0, RefineStatus::kFalseHypothesis);
+  seen_missing.absence_seen = true;
+  t = next(t.life, seen_missing, kOptions);
+  EXPECT_FALSE(t.remove);
+  seen_missing.stamp = 31.0;
+  EXPECT_TRUE(next(t.life, seen_missing, kOptions).remove);
+}
+
+TEST(Removal, ALostTrackSeenWholeAgainIsConfirmedAndClearsAbsence) {
+  TrackLife life = confirmedLife(0.0);
+  life.state = TrackState::kLost;
+  life.absent_since = 0.5;
+  const Transition t = next(life, goodFit(1.2), kOptions);
+  EXPECT_EQ(t.fit_use, FitUse::kUpdate);
+  EXPECT_EQ(t.life.state, TrackState::kConfirmed);
+  EXPECT_LT(t.life.absent_since, 0.0);
+  EXPECT_FALSE(t.remove);
+}
+
+TEST(ChildOfContainer, AHiddenChildCollectsNoAbsenceAndIsKept) {
+  TrackLife life = confirmedLife(0.0);
+  TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
+  e.child = true;
+  e.absence_seen = true;  // the rays would say so, but its parent hides it more than they know
+  for (double stamp = 0.1; stamp < 10.0; stamp += 0.5) {
+    e.stamp = stamp;
+    const Transition t = next(life, e, kOptions);
+    EXPECT_LT(t.life.absent_since, 0.0);
+    EXPECT_FALSE(t.remove);
+    life = t.life;
+  }
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, kOptions), kOptions.association_distance);
+}
+
+TEST(SunkInMap, ATrackInsideTheMapGoesSeenOrNotButNotAChild) {
+  TrackLife life = confirmedLife(0.0);
+  TrackEvidence e = goodFit(0.0);
+  e.sunk = true;
+  Transition t = next(life, e, kOptions);
+  EXPECT_DOUBLE_EQ(t.life.sunk_since, 0.0);
+  e.stamp = 1.0;
+  EXPECT_TRUE(next(t.life, e, kOptions).remove);
+  e.child = true;  // a child is where its parent holds it
+  EXPECT_LT(next(t.life, e, kOptions).life.sunk_since, 0.0);
+  EXPECT_DOUBLE_EQ(SunkInMap::since(-1.0, false, true, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(SunkInMap::since(2.0, false, true, 3.0), 2.0);
+  EXPECT_DOUBLE_EQ(SunkInMap::since(2.0, false, false, 3.0), -1.0);
+}
+
+TEST(OrientationReSearch, AConfirmedTrackExplainingTooLittleIsSearchedAgainAfterTheInterval) {
+  TrackLife life = confirmedLife(0.0);
+  life.fit_support = 0.8;
+  life.last_orientation_search = 0.0;
+  EXPECT_FALSE(next(life, goodFit(1.0, 0.8), kOptions).search_orientation);  // too soon
+  EXPECT_TRUE(next(life, goodFit(2.0, 0.8), kOptions).search_orientation);
+  TrackEvidence queued = goodFit(2.0, 0.8);
+  queued.queued_for_search = true;
+  EXPECT_FALSE(next(life, queued, kOptions).search_orientation);
+  TrackLife nearly = life;
+  nearly.fit_support = 0.89;
+  EXPECT_FALSE(next(nearly, goodFit(2.0, 1.0), kOptions).search_orientation);  // support back up
+  TrackEvidence child = goodFit(2.0, 0.8);
+  child.child = true;
+  EXPECT_FALSE(next(life, child, kOptions).search_orientation);
+  LifecycleOptions off = kOptions;
+  off.research_below_fit_support = 0.0;
+  EXPECT_FALSE(next(life, goodFit(2.0, 0.8), off).search_orientation);
+}
+
+TEST(DetectionAssociation, GatesAndRestarts) {
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions), kOptions.association_distance);
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kTooFewPoints, false, kOptions),
+                   kOptions.reacquire_distance);
+  EXPECT_FALSE(DetectionAssociation::restarts(RefineStatus::kOk, false));
+  EXPECT_TRUE(DetectionAssociation::restarts(RefineStatus::kNotVisible, false));
+  EXPECT_FALSE(DetectionAssociation::restarts(RefineStatus::kTooFewPoints, true));  // a weak fit placed it
+}
+
+TEST(RestartContest, TheDetectionWinsOnlyWithABetterFitThatExplainsItsRays) {
+  EXPECT_FALSE(RestartContest::detectionWins(0, 0.9, kOptions));  // the track's own pose won (or a tie)
+  EXPECT_TRUE(RestartContest::detectionWins(1, 0.9, kOptions));
+  EXPECT_FALSE(RestartContest::detectionWins(1, 0.25, kOptions));  // the edge of an occluder
+  EXPECT_TRUE(RestartContest::competes(false));
+  EXPECT_FALSE(RestartContest::competes(true));
+}
+
+TEST(PresegmentationRole, OnlyConfirmedSupportedTracksExplainPoints) {
+  EXPECT_FALSE(PresegmentationRole::explainsPoints(TrackState::kTentative, false));
+  EXPECT_TRUE(PresegmentationRole::explainsPoints(TrackState::kConfirmed, false));
+  EXPECT_TRUE(PresegmentationRole::explainsPoints(TrackState::kLost, false));
+  EXPECT_FALSE(PresegmentationRole::explainsPoints(TrackState::kConfirmed, true));
+}
+
+TEST(TrackState, HasNames) {
+  EXPECT_STREQ(toString(TrackState::kTentative), "tentative");
+  EXPECT_STREQ(toString(TrackState::kConfirmed), "confirmed");
+  EXPECT_STREQ(toString(TrackState::kLost), "lost");
+  EXPECT_STREQ(toString(TrackState::kRemoved), "removed");
+}
+
+}  // namespace
+}  // namespace sgt
