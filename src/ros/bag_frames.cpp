@@ -10,6 +10,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/frame_assembler.hpp"
 
 namespace sgt::ros {
 namespace {
@@ -26,9 +27,139 @@ std::vector<std::uint8_t> labelsOf(const sensor_msgs::Image& img) {
   return out;
 }
 
-struct Scan {
-  sensor_msgs::PointCloud2::ConstPtr cloud;
+std::vector<std::string> topicList(std::initializer_list<std::string> topics) { return topics; }
+
+// Pass 2 of a bag: images, scans, hypotheses and labels in time order. A frame is complete when a
+// message with a later stamp arrives; the frame assembler builds it, and this adds what only a
+// bag has (the colour image for a detector run offline, and ground truth).
+class FrameStream {
+ public:
+  FrameStream(const BagTopics& topics, bool read_rgb, FrameAssembler& assembler,
+              const std::function<void(BagFrame&)>& f)
+      : topics_(topics), read_rgb_(read_rgb), assembler_(assembler), f_(f) {}
+
+  void readTruth(rosbag::Bag& bag);
+  void onMessage(const rosbag::MessageInstance& mi);
+  void finish() {
+    if (pending_) emit();
+  }
+
+ private:
+  void store(const std::string& topic, const rosbag::MessageInstance& mi);
+  void emit();
+  void attachRgb(BagFrame& bf, Stamp k);
+  void attachTruth(BagFrame& bf, Stamp k, const sensor_msgs::PointCloud2::ConstPtr& scan);
+
+  const BagTopics& topics_;
+  const bool read_rgb_;
+  FrameAssembler& assembler_;
+  const std::function<void(BagFrame&)>& f_;
+  std::map<Stamp, scene_graph_tracker::ObjectPoseArray::ConstPtr> truth_objects_;
+  std::map<Stamp, geometry_msgs::PoseStamped::ConstPtr> truth_base_;
+  sensor_msgs::CameraInfo::ConstPtr info_, rgb_info_;
+  sensor_msgs::Image::ConstPtr pending_;
+  std::map<Stamp, sensor_msgs::Image::ConstPtr> rgbs_;  // arrived, not yet used
+  std::map<Stamp, std::vector<std::uint8_t>> depth_labels_, lidar_labels_;
+  std::vector<std::string> warnings_;
 };
+
+void FrameStream::readTruth(rosbag::Bag& bag) {
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.truth_objects, topics_.truth_base})))) {
+    if (auto o = mi.instantiate<scene_graph_tracker::ObjectPoseArray>()) truth_objects_[key(o->header.stamp)] = o;
+    if (auto b = mi.instantiate<geometry_msgs::PoseStamped>()) truth_base_[key(b->header.stamp)] = b;
+  }
+}
+
+void FrameStream::onMessage(const rosbag::MessageInstance& mi) {
+  const std::string& topic = mi.getTopic();
+  if (topic == topics_.depth_info) {
+    info_ = mi.instantiate<sensor_msgs::CameraInfo>();
+  } else if (topic == topics_.rgb_info) {
+    rgb_info_ = mi.instantiate<sensor_msgs::CameraInfo>();
+  } else if (topic == topics_.rgb) {
+    if (!read_rgb_) return;
+    if (auto img = mi.instantiate<sensor_msgs::Image>()) rgbs_[key(img->header.stamp)] = img;
+  } else {
+    ::ros::Time stamp = mi.getTime();
+    if (auto img = mi.instantiate<sensor_msgs::Image>()) stamp = img->header.stamp;
+    if (auto pc = mi.instantiate<sensor_msgs::PointCloud2>()) stamp = pc->header.stamp;
+    if (pending_ && stamp > pending_->header.stamp) emit();
+    try {
+      store(topic, mi);
+    } catch (const std::exception& e) {
+      warnings_.push_back(topic + " at " + std::to_string(stamp.toSec()) + " skipped: " + e.what());
+    }
+  }
+}
+
+void FrameStream::store(const std::string& topic, const rosbag::MessageInstance& mi) {
+  if (topic == topics_.depth) {
+    pending_ = mi.instantiate<sensor_msgs::Image>();
+  } else if (topic == topics_.lidar) {
+    assembler_.addCloud(mi.instantiate<sensor_msgs::PointCloud2>());
+  } else if (topic == topics_.hypotheses) {
+    assembler_.addHypotheses(mi.instantiate<scene_graph_tracker::PoseHypothesisArray>());
+  } else if (topic == topics_.truth_depth_labels) {
+    const auto img = mi.instantiate<sensor_msgs::Image>();
+    depth_labels_[key(img->header.stamp)] = labelsOf(*img);
+  } else if (topic == topics_.truth_lidar_labels) {
+    const auto img = mi.instantiate<sensor_msgs::Image>();
+    lidar_labels_[key(img->header.stamp)] = labelsOf(*img);
+  }
+}
+
+void FrameStream::emit() {
+  BagFrame bf;
+  bf.warnings.swap(warnings_);
+  const Stamp k = key(pending_->header.stamp);
+  try {
+    if (!info_) throw ConversionError("no camera_info before the first depth image");
+    AssembledFrame a = assembler_.assemble(*pending_, *info_);
+    bf.frame = std::move(a.frame);
+    bf.warnings.insert(bf.warnings.end(), a.warnings.begin(), a.warnings.end());
+    if (read_rgb_) attachRgb(bf, k);
+    attachTruth(bf, k, a.cloud);
+  } catch (const std::exception& e) {  // the frame is not usable without its depth image
+    bf.warnings.push_back(std::string("depth image at ") + std::to_string(pending_->header.stamp.toSec()) +
+                          " skipped: " + e.what());
+    warnings_ = std::move(bf.warnings);
+    pending_.reset();
+    return;
+  }
+  pending_.reset();
+  f_(bf);
+}
+
+void FrameStream::attachRgb(BagFrame& bf, Stamp k) {
+  if (auto c = rgbs_.find(k); c != rgbs_.end()) {
+    try {
+      if (!rgb_info_) throw ConversionError("no " + topics_.rgb_info + " before the colour image");
+      RgbFrame rgb;
+      rgb.camera = toPinhole(*rgb_info_);
+      rgb.rgb = rgbFromImage(*c->second, rgb.camera);
+      rgb.T_base_camera = assembler_.lookup(topics_.base_frame, c->second->header.frame_id, c->second->header.stamp);
+      bf.rgb = std::move(rgb);
+    } catch (const std::exception& e) {
+      bf.warnings.push_back("colour image at " + std::to_string(bf.frame.stamp) + " skipped: " + e.what());
+    }
+  }
+  rgbs_.erase(rgbs_.begin(), rgbs_.upper_bound(k));
+}
+
+void FrameStream::attachTruth(BagFrame& bf, Stamp k, const sensor_msgs::PointCloud2::ConstPtr& scan) {
+  if (auto o = truth_objects_.find(k); o != truth_objects_.end()) {
+    GroundTruth gt;
+    for (const auto& obj : o->second->objects) gt.objects.push_back({obj.id, obj.class_name, toEigen(obj.pose)});
+    if (auto b = truth_base_.find(k); b != truth_base_.end()) gt.T_map_base = toEigen(b->second->pose);
+    gt.labels.push_back(depth_labels_.count(k) ? depth_labels_[k] : std::vector<std::uint8_t>{});
+    if (scan) {
+      const Stamp ks = key(scan->header.stamp);
+      gt.labels.push_back(lidar_labels_.count(ks) ? lidar_labels_[ks] : std::vector<std::uint8_t>{});
+    }
+    bf.truth = std::move(gt);
+  }
+  depth_labels_.erase(depth_labels_.begin(), depth_labels_.upper_bound(k));
+}
 
 }  // namespace
 
@@ -36,16 +167,16 @@ BagFrameReader::BagFrameReader(const std::string& path, const BagTopics& topics)
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   const ::ros::Time begin = rosbag::View(bag).getBeginTime(), end = rosbag::View(bag).getEndTime();
   tf_ = std::make_unique<tf2::BufferCore>(::ros::Duration(std::max(10.0, (end - begin).toSec() + 10.0)));
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{"/tf", "/tf_static"}))) {
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({"/tf", "/tf_static"})))) {
     const auto tf = mi.instantiate<tf2_msgs::TFMessage>();
     if (!tf) continue;
     const bool is_static = mi.getTopic() == "/tf_static";
     for (const auto& t : tf->transforms) tf_->setTransform(t, "bag", is_static);
   }
-  depth_count_ = rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.depth})).size();
+  depth_count_ = rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.depth}))).size();
   if (depth_count_ == 0) throw std::runtime_error(path + ": no depth images on " + topics_.depth);
-  has_truth_ = rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.truth_objects})).size() > 0;
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.map_odom_prior})))
+  has_truth_ = rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.truth_objects}))).size() > 0;
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.map_odom_prior}))))
     if (const auto t = mi.instantiate<geometry_msgs::TransformStamped>()) {
       map_odom_prior_ = toEigen(t->transform);
       break;
@@ -65,140 +196,17 @@ std::optional<Eigen::Isometry3d> BagFrameReader::mapToOdom(double stamp) const {
 
 void BagFrameReader::forEach(const std::function<void(BagFrame&)>& f) {
   rosbag::Bag bag(path_, rosbag::bagmode::Read);
-  // Pass 1: the small messages, by stamp.
-  std::map<Stamp, scene_graph_tracker::PoseHypothesisArray::ConstPtr> hypotheses;
-  std::map<Stamp, scene_graph_tracker::ObjectPoseArray::ConstPtr> truth_objects;
-  std::map<Stamp, geometry_msgs::PoseStamped::ConstPtr> truth_base;
-  for (const rosbag::MessageInstance& mi :
-       rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.hypotheses, topics_.truth_objects, topics_.truth_base}))) {
-    if (auto h = mi.instantiate<scene_graph_tracker::PoseHypothesisArray>()) hypotheses[key(h->header.stamp)] = h;
-    if (auto o = mi.instantiate<scene_graph_tracker::ObjectPoseArray>()) truth_objects[key(o->header.stamp)] = o;
-    if (auto b = mi.instantiate<geometry_msgs::PoseStamped>()) truth_base[key(b->header.stamp)] = b;
-  }
-  // Pass 2: images and scans in time order; a frame is complete when a later message arrives.
-  sensor_msgs::CameraInfo::ConstPtr info, rgb_info;
-  sensor_msgs::Image::ConstPtr pending;
-  std::map<Stamp, sensor_msgs::Image::ConstPtr> rgbs;  // arrived, not yet used
-  std::vector<sensor_msgs::PointCloud2::ConstPtr> scans;  // arrived, not yet used
-  std::map<Stamp, std::vector<std::uint8_t>> depth_labels, lidar_labels;
-  std::vector<std::string> warnings;
-  const auto lookup = [&](const std::string& target, const std::string& source, const ::ros::Time& t) {
+  FrameAssemblerOptions options = assembler_options_;
+  options.odom_frame = topics_.odom_frame, options.base_frame = topics_.base_frame;
+  FrameAssembler assembler(options, [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
     return toEigen(tf_->lookupTransform(target, source, t).transform);
-  };
-  const auto emit = [&]() {
-    BagFrame bf;
-    bf.warnings.swap(warnings);
-    PipelineFrame& fr = bf.frame;
-    fr.stamp = pending->header.stamp.toSec();
-    try {
-      if (!info) throw ConversionError("no camera_info before the first depth image");
-      const PinholeModel cam = toPinhole(*info);
-      const auto rays = std::make_shared<SensorRays>(makeRays(cam));
-      fr.T_odom_base = lookup(topics_.odom_frame, topics_.base_frame, pending->header.stamp);
-      fr.measurements.push_back(fromDepthImage(cam, rays, depthFromImage(*pending, cam),
-                                               lookup(topics_.odom_frame, pending->header.frame_id, pending->header.stamp),
-                                               pending->header.frame_id));
-      const Eigen::Isometry3d T_base_camera = lookup(topics_.base_frame, pending->header.frame_id, pending->header.stamp);
-      if (auto h = hypotheses.find(key(pending->header.stamp)); h != hypotheses.end())
-        for (const auto& p : h->second->hypotheses)
-          fr.hypotheses.push_back({p.class_name, T_base_camera * toEigen(p.pose), p.score});
-    } catch (const std::exception& e) {
-      warnings.push_back(std::string("depth image at ") + std::to_string(pending->header.stamp.toSec()) +
-                         " skipped: " + e.what());
-      bf.warnings.insert(bf.warnings.end(), warnings.begin(), warnings.end());
-      warnings.clear();
-      pending.reset();
-      return;  // the frame is not usable without its depth image
-    }
-    if (read_rgb_) {
-      const Stamp k = key(pending->header.stamp);
-      if (auto c = rgbs.find(k); c != rgbs.end()) {
-        try {
-          if (!rgb_info) throw ConversionError("no " + topics_.rgb_info + " before the colour image");
-          RgbFrame rgb;
-          rgb.camera = toPinhole(*rgb_info);
-          rgb.rgb = rgbFromImage(*c->second, rgb.camera);
-          rgb.T_base_camera = lookup(topics_.base_frame, c->second->header.frame_id, c->second->header.stamp);
-          bf.rgb = std::move(rgb);
-        } catch (const std::exception& e) {
-          bf.warnings.push_back("colour image at " + std::to_string(pending->header.stamp.toSec()) + " skipped: " + e.what());
-        }
-      }
-      rgbs.erase(rgbs.begin(), rgbs.upper_bound(k));
-    }
-    // The newest scan not later than the image.
-    sensor_msgs::PointCloud2::ConstPtr scan;
-    while (!scans.empty() && scans.front()->header.stamp <= pending->header.stamp) {
-      scan = scans.front();
-      scans.erase(scans.begin());
-    }
-    if (scan) {
-      try {
-        const SpinningLidarModel model = SpinningLidarModel::vlp16();
-        static const auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-        fr.measurements.push_back(fromRanges(model, lidar_rays, rangesFromCloud(*scan, model),
-                                             lookup(topics_.odom_frame, scan->header.frame_id, scan->header.stamp),
-                                             scan->header.frame_id));
-      } catch (const std::exception& e) {
-        bf.warnings.push_back("LiDAR scan at " + std::to_string(scan->header.stamp.toSec()) + " skipped: " + e.what());
-        scan.reset();
-      }
-    }
-    const Stamp k = key(pending->header.stamp);
-    if (auto o = truth_objects.find(k); o != truth_objects.end()) {
-      GroundTruth gt;
-      for (const auto& obj : o->second->objects) gt.objects.push_back({obj.id, obj.class_name, toEigen(obj.pose)});
-      if (auto b = truth_base.find(k); b != truth_base.end()) gt.T_map_base = toEigen(b->second->pose);
-      gt.labels.push_back(depth_labels.count(k) ? depth_labels[k] : std::vector<std::uint8_t>{});
-      if (scan) {
-        const Stamp ks = key(scan->header.stamp);
-        gt.labels.push_back(lidar_labels.count(ks) ? lidar_labels[ks] : std::vector<std::uint8_t>{});
-      }
-      bf.truth = std::move(gt);
-    }
-    depth_labels.erase(depth_labels.begin(), depth_labels.upper_bound(k));
-    pending.reset();
-    f(bf);
-  };
-  for (const rosbag::MessageInstance& mi :
-       rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics_.depth, topics_.depth_info, topics_.lidar, topics_.truth_depth_labels,
-                                             topics_.truth_lidar_labels, topics_.rgb, topics_.rgb_info}))) {
-    const std::string& topic = mi.getTopic();
-    ::ros::Time stamp = mi.getTime();
-    if (topic == topics_.depth_info) {
-      info = mi.instantiate<sensor_msgs::CameraInfo>();
-      continue;
-    }
-    if (topic == topics_.rgb_info) {
-      rgb_info = mi.instantiate<sensor_msgs::CameraInfo>();
-      continue;
-    }
-    if (topic == topics_.rgb) {
-      if (read_rgb_) {
-        if (auto img = mi.instantiate<sensor_msgs::Image>()) rgbs[key(img->header.stamp)] = img;
-      }
-      continue;
-    }
-    if (auto img = mi.instantiate<sensor_msgs::Image>()) stamp = img->header.stamp;
-    if (auto pc = mi.instantiate<sensor_msgs::PointCloud2>()) stamp = pc->header.stamp;
-    if (pending && stamp > pending->header.stamp) emit();
-    try {
-      if (topic == topics_.depth) {
-        pending = mi.instantiate<sensor_msgs::Image>();
-      } else if (topic == topics_.lidar) {
-        scans.push_back(mi.instantiate<sensor_msgs::PointCloud2>());
-      } else if (topic == topics_.truth_depth_labels) {
-        const auto img = mi.instantiate<sensor_msgs::Image>();
-        depth_labels[key(img->header.stamp)] = labelsOf(*img);
-      } else if (topic == topics_.truth_lidar_labels) {
-        const auto img = mi.instantiate<sensor_msgs::Image>();
-        lidar_labels[key(img->header.stamp)] = labelsOf(*img);
-      }
-    } catch (const std::exception& e) {
-      warnings.push_back(topic + " at " + std::to_string(stamp.toSec()) + " skipped: " + e.what());
-    }
-  }
-  if (pending) emit();
+  });
+  FrameStream stream(topics_, read_rgb_, assembler, f);
+  stream.readTruth(bag);
+  const auto topics = topicList({topics_.depth, topics_.depth_info, topics_.lidar, topics_.hypotheses,
+                                 topics_.truth_depth_labels, topics_.truth_lidar_labels, topics_.rgb, topics_.rgb_info});
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topics))) stream.onMessage(mi);
+  stream.finish();
 }
 
 }  // namespace sgt::ros

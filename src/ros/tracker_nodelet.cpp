@@ -12,7 +12,6 @@
 #include <optional>
 
 #include "scene_graph_tracker/geometry/building.hpp"
-#include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
@@ -37,6 +36,25 @@ std::uint8_t stateCode(TrackState s) {
                                        : scene_graph_tracker::TrackedObject::LOST;
 }
 
+// How frames are put together (frame_assembler.hpp): frames, the hypotheses' window, the LiDAR.
+FrameAssemblerOptions assemblerOptions(::ros::NodeHandle& pnh, const std::string& odom_frame,
+                                       const std::string& base_frame) {
+  FrameAssemblerOptions o;
+  o.odom_frame = odom_frame, o.base_frame = base_frame;
+  o.hypothesis_max_age = pnh.param("hypothesis_max_age", o.hypothesis_max_age);
+  SpinningLidarModel& l = o.lidar;  // the VLP-16 unless the parameters describe another
+  if (pnh.getParam("lidar/columns", l.columns)) l.theta_inc = 2.0 * M_PI / l.columns;
+  pnh.getParam("lidar/rings", l.rings);
+  double value = 0.0;
+  if (pnh.getParam("lidar/min_elevation_deg", value)) l.phi_min = value * M_PI / 180.0;
+  if (pnh.getParam("lidar/max_elevation_deg", value)) l.phi_max = value * M_PI / 180.0;
+  if (pnh.getParam("lidar/range_min", value)) l.range_min = static_cast<float>(value);
+  if (pnh.getParam("lidar/range_max", value)) l.range_max = static_cast<float>(value);
+  if (l.columns < 1 || l.rings < 1 || !(l.phi_min < l.phi_max) || !(l.range_min < l.range_max))
+    throw std::invalid_argument("tracker: lidar/* parameters describe no sensor");
+  return o;
+}
+
 }  // namespace
 
 void TrackerNodelet::onInit() {
@@ -47,7 +65,6 @@ void TrackerNodelet::onInit() {
   base_frame_ = pnh.param<std::string>("base_frame", "base_link");
   publish_map_odom_ = pnh.param("publish_map_odom", true);
   publish_object_tf_ = pnh.param("publish_object_tf", false);
-  hypothesis_max_age_ = pnh.param("hypothesis_max_age", 0.1);
 
   PipelineOptions o;
   o.refiner.rounds = pnh.param("refine/rounds", o.refiner.rounds);
@@ -87,6 +104,11 @@ void TrackerNodelet::onInit() {
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  assembler_ = std::make_unique<FrameAssembler>(
+      assemblerOptions(pnh, odom_frame_, base_frame_),
+      [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
+        return toEigen(tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
+      });
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
   objects_pub_ = pnh.advertise<scene_graph_tracker::TrackedObjectArray>("tracked_objects", 5);
   graph_pub_ = pnh.advertise<scene_graph_tracker::SceneGraph>("scene_graph", 5);
@@ -121,12 +143,12 @@ void TrackerNodelet::warn(const std::string& text) {
 
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
   std::lock_guard<std::mutex> lock(mutex_);
-  pushRecent(clouds_, cloud, 5);
+  assembler_->addCloud(cloud);
 }
 
 void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
-  pushRecent(hypotheses_, msg, 30);
+  assembler_->addHypotheses(msg);
 }
 
 void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sensor_msgs::CameraInfoConstPtr& info) {
@@ -138,53 +160,16 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
     pipeline_->reset();
   }
   last_stamp_ = stamp;
-  PipelineFrame frame;
-  frame.stamp = stamp.toSec();
-  const auto lookup = [&](const std::string& target, const std::string& source, const ::ros::Time& t) {
-    return toEigen(tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
-  };
+  AssembledFrame frame;
   try {
-    const PinholeModel cam = toPinhole(*info);
-    static thread_local PinholeRayCache ray_cache;
-    const auto rays = ray_cache.rays(cam);
-    frame.T_odom_base = lookup(odom_frame_, base_frame_, stamp);
-    frame.measurements.push_back(fromDepthImage(cam, rays, depthFromImage(*depth, cam),
-                                                lookup(odom_frame_, depth->header.frame_id, stamp),
-                                                depth->header.frame_id));
-    const Eigen::Isometry3d T_base_camera = lookup(base_frame_, depth->header.frame_id, stamp);
-    // The detections of this image: the one hypothesis array closest in time (a detector emits one
-    // per image); using every array within the window would count each object several times.
-    const scene_graph_tracker::PoseHypothesisArrayConstPtr best = closestInTime(hypotheses_, stamp, hypothesis_max_age_);
-    if (best) {
-      const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth->header.frame_id
-                                                 ? T_base_camera
-                                                 : lookup(base_frame_, best->header.frame_id, best->header.stamp);
-      for (const auto& p : best->hypotheses)
-        frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
-    }
-    hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
-                                     [&](const auto& h) { return h->header.stamp <= stamp; }),
-                      hypotheses_.end());
+    frame = assembler_->assemble(*depth, *info);
   } catch (const std::exception& e) {
     warn(std::string("depth frame skipped: ") + e.what());
     publishDiagnostics(std::string("depth frame skipped: ") + e.what(), nullptr);
     return;
   }
-  // The newest scan not later than the image, once.
-  sensor_msgs::PointCloud2ConstPtr cloud;
-  while (!clouds_.empty() && clouds_.front()->header.stamp <= stamp) cloud = clouds_.front(), clouds_.pop_front();
-  if (cloud) {
-    try {
-      static const auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-      const SpinningLidarModel model = SpinningLidarModel::vlp16();
-      frame.measurements.push_back(fromRanges(model, lidar_rays, rangesFromCloud(*cloud, model),
-                                              lookup(odom_frame_, cloud->header.frame_id, cloud->header.stamp),
-                                              cloud->header.frame_id));
-    } catch (const std::exception& e) {
-      warn(std::string("point cloud skipped: ") + e.what());
-    }
-  }
-  const PipelineResult r = pipeline_->process(std::move(frame));
+  for (const std::string& w : frame.warnings) warn(w);
+  const PipelineResult r = pipeline_->process(std::move(frame.frame));
   publish(r, stamp);
   publishDiagnostics("", &r);
 }

@@ -1,10 +1,9 @@
 // Reading a recorded (or simulated) bag as pipeline frames, offline and without a roscore.
 //
-// A frame is one depth image (with its camera_info) plus the newest LiDAR scan that arrived since
-// the previous frame, the pose hypotheses stamped like the image, and the odometry (odom ->
-// base_link and the sensor mounts) looked up in the bag's /tf and /tf_static at each sensor's
-// stamp. When the bag carries ground truth (the package's simulator writes it) the frame has it
-// too. Topic names are parameters; the defaults are what `simulate` writes.
+// Frames are assembled as the live tracker assembles them (frame_assembler.hpp), with the
+// odometry looked up in the bag's /tf and /tf_static. When the bag carries ground truth (the
+// package's simulator writes it) the frame has it too. Topic names are parameters; the defaults
+// are what `simulate` writes.
 #pragma once
 
 #include <rosbag/bag.h>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/ros/frame_assembler.hpp"
 
 namespace tf2 {
 class BufferCore;
@@ -79,6 +79,9 @@ class BagFrameReader {
   bool hasGroundTruth() const { return has_truth_; }
   // Also attach each frame's colour image (off by default: it costs decoding time).
   void setReadRgb(bool on) { read_rgb_ = on; }
+  // How frames are assembled (the LiDAR model, the hypotheses' time window); the frames named in
+  // BagTopics win over the options' own.
+  void setAssemblerOptions(const FrameAssemblerOptions& o) { assembler_options_ = o; }
   // The bag's map -> odom prior: the simulator's (map_odom_prior topic) or, in a bag recorded
   // with a localizer running, its map -> odom on /tf at `stamp`; nullopt when it has neither.
   std::optional<Eigen::Isometry3d> mapToOdom(double stamp) const;
@@ -92,6 +95,7 @@ class BagFrameReader {
   std::size_t depth_count_ = 0;
   bool has_truth_ = false;
   bool read_rgb_ = false;
+  FrameAssemblerOptions assembler_options_;
   std::optional<Eigen::Isometry3d> map_odom_prior_;
 };
 

@@ -1,7 +1,8 @@
 // The tracker as a nodelet: converts topics into pipeline frames, runs FramePipeline, publishes
 // the results. No tracking logic lives here (see pipeline/frame_pipeline.hpp).
 //
-// Subscribes: depth image + camera_info (synchronised), a VLP-16 PointCloud2, pose hypotheses
+// Subscribes: depth image + camera_info (synchronised), a LiDAR PointCloud2 (its model from the
+// lidar/* parameters), pose hypotheses
 // (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
 // map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
@@ -33,6 +34,7 @@
 #include <mutex>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/ros/frame_assembler.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
 
 namespace sgt::ros {
@@ -56,12 +58,10 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);
 
   std::unique_ptr<FramePipeline> pipeline_;
-  std::mutex mutex_;  // pipeline_ and the buffers below
+  std::unique_ptr<FrameAssembler> assembler_;
+  std::mutex mutex_;  // pipeline_ and assembler_
   std::string map_frame_, odom_frame_, base_frame_;
   bool publish_map_odom_ = true, publish_object_tf_ = false;
-  double hypothesis_max_age_ = 0.1;
-  std::deque<sensor_msgs::PointCloud2ConstPtr> clouds_;
-  std::deque<scene_graph_tracker::PoseHypothesisArrayConstPtr> hypotheses_;
   ::ros::Time last_stamp_;
   WarningThrottle warnings_;
 

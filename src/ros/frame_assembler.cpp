@@ -1,0 +1,72 @@
+#include "scene_graph_tracker/ros/frame_assembler.hpp"
+
+#include <algorithm>
+
+#include "scene_graph_tracker/ros/closest_in_time.hpp"
+
+namespace sgt::ros {
+
+FrameAssembler::FrameAssembler(FrameAssemblerOptions options, Lookup lookup)
+    : options_(std::move(options)),
+      lookup_(std::move(lookup)),
+      lidar_rays_(std::make_shared<SensorRays>(makeRays(options_.lidar))) {}
+
+void FrameAssembler::addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud) {
+  if (cloud) pushRecent(clouds_, cloud, options_.max_buffered_clouds);
+}
+
+void FrameAssembler::addHypotheses(const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses) {
+  if (hypotheses) pushRecent(hypotheses_, hypotheses, options_.max_buffered_hypotheses);
+}
+
+AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth, const sensor_msgs::CameraInfo& info) {
+  AssembledFrame out;
+  out.frame.stamp = depth.header.stamp.toSec();
+  addDepth(out, depth, info);
+  addHypothesesOf(out, depth);
+  addScan(out, depth.header.stamp);
+  return out;
+}
+
+void FrameAssembler::addDepth(AssembledFrame& out, const sensor_msgs::Image& depth,
+                              const sensor_msgs::CameraInfo& info) {
+  const PinholeModel cam = toPinhole(info);
+  const ::ros::Time& stamp = depth.header.stamp;
+  out.frame.T_odom_base = lookup_(options_.odom_frame, options_.base_frame, stamp);
+  out.frame.measurements.push_back(fromDepthImage(cam, camera_rays_.rays(cam), depthFromImage(depth, cam),
+                                                  lookup_(options_.odom_frame, depth.header.frame_id, stamp),
+                                                  depth.header.frame_id));
+}
+
+void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth) {
+  const ::ros::Time& stamp = depth.header.stamp;
+  const Eigen::Isometry3d T_base_camera = lookup_(options_.base_frame, depth.header.frame_id, stamp);
+  const auto best = closestInTime(hypotheses_, stamp, options_.hypothesis_max_age);
+  if (best) {
+    const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth.header.frame_id
+                                               ? T_base_camera
+                                               : lookup_(options_.base_frame, best->header.frame_id, best->header.stamp);
+    for (const auto& p : best->hypotheses)
+      out.frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
+  }
+  hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
+                                   [&](const auto& h) { return h->header.stamp <= stamp; }),
+                    hypotheses_.end());
+}
+
+void FrameAssembler::addScan(AssembledFrame& out, const ::ros::Time& stamp) {
+  sensor_msgs::PointCloud2::ConstPtr cloud;
+  while (!clouds_.empty() && clouds_.front()->header.stamp <= stamp) cloud = clouds_.front(), clouds_.pop_front();
+  if (!cloud) return;
+  try {
+    const ::ros::Time& t = cloud->header.stamp;
+    out.frame.measurements.push_back(fromRanges(options_.lidar, lidar_rays_, rangesFromCloud(*cloud, options_.lidar),
+                                                lookup_(options_.odom_frame, cloud->header.frame_id, t),
+                                                cloud->header.frame_id));
+    out.cloud = cloud;
+  } catch (const std::exception& e) {
+    out.warnings.push_back("LiDAR scan at " + std::to_string(cloud->header.stamp.toSec()) + " skipped: " + e.what());
+  }
+}
+
+}  // namespace sgt::ros
