@@ -13,7 +13,9 @@ namespace sgt::ros {
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p) {
   Eigen::Quaterniond q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  if (!(q.norm() > 1e-9)) throw ConversionError("pose with a zero quaternion");
+  if (!(q.norm() > 1e-9)) throw ConversionError("pose with a zero or non-finite quaternion");
+  if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z))
+    throw ConversionError("pose with a non-finite position");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = q.normalized().toRotationMatrix();
   T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);

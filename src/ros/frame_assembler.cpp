@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "scene_graph_tracker/ros/closest_in_time.hpp"
 
@@ -46,8 +47,14 @@ void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Ima
     const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth.header.frame_id
                                                ? T_base_camera
                                                : lookup_(options_.base_frame, best->header.frame_id, best->header.stamp);
-    for (const auto& p : best->hypotheses)
-      out.frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
+    for (const auto& p : best->hypotheses) {
+      try {  // one bad hypothesis costs itself, not the frame
+        if (!std::isfinite(p.score)) throw ConversionError("non-finite score");
+        out.frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
+      } catch (const ConversionError& e) {
+        out.warnings.push_back("hypothesis of class '" + p.class_name + "' dropped: " + e.what());
+      }
+    }
   }
   hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
                                    [&](const auto& h) { return h->header.stamp <= stamp; }),

@@ -169,51 +169,85 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sens
     return;
   }
   for (const std::string& w : frame.warnings) warn(w);
-  const PipelineResult r = pipeline_->process(std::move(frame.frame));
-  publish(r, stamp);
-  publishDiagnostics("", &r);
+  try {  // a failure costs this frame, never the nodelet manager
+    const PipelineResult r = pipeline_->process(std::move(frame.frame));
+    publish(r, stamp);
+    publishDiagnostics("", &r);
+  } catch (const std::exception& e) {
+    warn(std::string("frame at ") + std::to_string(stamp.toSec()) + " failed: " + e.what());
+    publishDiagnostics(std::string("frame failed: ") + e.what(), nullptr);
+  }
 }
 
 void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) {
+  std_msgs::Header header;
+  header.stamp = stamp, header.frame_id = map_frame_;
   scene_graph_tracker::TrackedObjectArray objects;
-  objects.header.stamp = stamp;
-  objects.header.frame_id = map_frame_;
   scene_graph_tracker::SceneGraph graph;
-  graph.header = objects.header;
-  visualization_msgs::MarkerArray markers;
-  visualization_msgs::Marker clear;
-  clear.action = visualization_msgs::Marker::DELETEALL;
-  markers.markers.push_back(clear);
-  int marker_id = 0;
-  std::map<std::string, const TrackedObject*> by_id;
-  for (const TrackedObject& o : r.objects) by_id[o.id] = &o;
+  objects.header = graph.header = header;
   for (const relations::Edge& e : r.relations) {
     scene_graph_tracker::SceneGraphEdge edge;
     edge.subject = e.subject, edge.relation = relations::relationName(e.relation), edge.object = e.object;
     graph.edges.push_back(edge);
   }
+  std::map<std::string, const TrackedObject*> by_id;
+  for (const TrackedObject& o : r.objects) by_id[o.id] = &o;
   for (const TrackedObject& o : r.objects) {
     // In the graph a track in / on another is that track's child (pose relative to it).
     const auto parent = by_id.find(o.parent);
-    const bool child = parent != by_id.end();
-    scene_graph_tracker::TrackedObject t;
-    t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state), t.parent = child ? o.parent : map_frame_;
-    t.pose.pose = toPose(o.T_map_object);
-    for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);
-    t.inlier_ratio = static_cast<float>(o.quality.inlier_ratio), t.inliers = o.quality.inliers;
-    objects.objects.push_back(t);
-    scene_graph_tracker::SceneGraphNode n;
-    n.id = o.id, n.class_name = o.class_name, n.parent = t.parent;
-    n.T_parent_node = toTransform(child ? Eigen::Isometry3d(parent->second->T_map_object.inverse() * o.T_map_object)
-                                        : o.T_map_object);
-    graph.nodes.push_back(n);
+    const TrackedObject* parent_object = parent != by_id.end() ? parent->second : nullptr;
+    objects.objects.push_back(trackedObjectMessage(o, parent_object));
+    graph.nodes.push_back(graphNodeMessage(o, parent_object));
+    if (publish_object_tf_) {
+      geometry_msgs::TransformStamped tf;
+      tf.header = header, tf.child_frame_id = o.id, tf.transform = toTransform(o.T_map_object);
+      tf_broadcaster_->sendTransform(tf);
+    }
+  }
+  objects_pub_.publish(objects);
+  graph_pub_.publish(graph);
+  markers_pub_.publish(markers(r, header));
+  if (publish_map_odom_) {
+    geometry_msgs::TransformStamped tf;
+    tf.header = header, tf.child_frame_id = odom_frame_;
+    tf.transform = toTransform(r.T_map_odom);
+    tf_broadcaster_->sendTransform(tf);
+  }
+  if (unassigned_pub_.getNumSubscribers() > 0) unassigned_pub_.publish(unassignedPoints(r, header));
+}
 
+scene_graph_tracker::TrackedObject TrackerNodelet::trackedObjectMessage(const TrackedObject& o,
+                                                                        const TrackedObject* parent) const {
+  scene_graph_tracker::TrackedObject t;
+  t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state), t.parent = parent ? o.parent : map_frame_;
+  t.pose.pose = toPose(o.T_map_object);
+  for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);
+  t.inlier_ratio = static_cast<float>(o.quality.inlier_ratio), t.inliers = o.quality.inliers;
+  return t;
+}
+
+scene_graph_tracker::SceneGraphNode TrackerNodelet::graphNodeMessage(const TrackedObject& o,
+                                                                     const TrackedObject* parent) const {
+  scene_graph_tracker::SceneGraphNode n;
+  n.id = o.id, n.class_name = o.class_name, n.parent = parent ? o.parent : map_frame_;
+  n.T_parent_node =
+      toTransform(parent ? Eigen::Isometry3d(parent->T_map_object.inverse() * o.T_map_object) : o.T_map_object);
+  return n;
+}
+
+visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r, const std_msgs::Header& header) const {
+  visualization_msgs::MarkerArray markers;
+  visualization_msgs::Marker clear;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  markers.markers.push_back(clear);
+  int marker_id = 0;
+  for (const TrackedObject& o : r.objects) {
     const ObjectClass& c = pipeline_->catalog().get(o.class_name);
     visualization_msgs::Marker m;
-    m.header = objects.header;
+    m.header = header;
     m.ns = "objects", m.id = marker_id++, m.type = visualization_msgs::Marker::MESH_RESOURCE;
     m.mesh_resource = "file://" + c.mesh_path;
-    m.pose = t.pose.pose, m.scale.x = m.scale.y = m.scale.z = 1.0, m.color = colour(o.state);
+    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = 1.0, m.color = colour(o.state);
     markers.markers.push_back(m);
     visualization_msgs::Marker box = m;
     box.ns = "boxes", box.id = marker_id++, box.type = visualization_msgs::Marker::CUBE, box.mesh_resource.clear();
@@ -229,40 +263,29 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
     label.pose.position.z += c.box.sizes().z() * 0.5 + 0.05;
     label.scale.z = 0.04, label.color.r = label.color.g = label.color.b = label.color.a = 1.0f;
     markers.markers.push_back(label);
-    if (publish_object_tf_) {
-      geometry_msgs::TransformStamped tf;
-      tf.header = objects.header, tf.child_frame_id = o.id, tf.transform = toTransform(o.T_map_object);
-      tf_broadcaster_->sendTransform(tf);
-    }
   }
   // Relation edges: lines between box centres (tracks and furniture) with labels.
   std::map<std::string, Eigen::Vector3d> centres;
   for (const TrackedObject& o : r.objects)
     centres[o.id] = o.T_map_object * pipeline_->catalog().get(o.class_name).box.center().cast<double>();
   for (const relations::Entity& f : pipeline_->furniture()) centres[f.name] = f.box.T_world_box.translation();
-  for (auto& m : relationMarkers(r.relations, centres, map_frame_, stamp, marker_id)) markers.markers.push_back(m);
-  objects_pub_.publish(objects);
-  graph_pub_.publish(graph);
-  markers_pub_.publish(markers);
-  if (publish_map_odom_) {
-    geometry_msgs::TransformStamped tf;
-    tf.header.stamp = stamp, tf.header.frame_id = map_frame_, tf.child_frame_id = odom_frame_;
-    tf.transform = toTransform(r.T_map_odom);
-    tf_broadcaster_->sendTransform(tf);
-  }
-  if (unassigned_pub_.getNumSubscribers() > 0) {
-    sensor_msgs::PointCloud2 cloud;
-    cloud.header = objects.header;
-    std::size_t n = 0;
-    for (const auto& p : r.presegmentation) n += p.unknown_points.size();
-    sensor_msgs::PointCloud2Modifier mod(cloud);
-    mod.setPointCloud2FieldsByString(1, "xyz");
-    mod.resize(n);
-    sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-    for (const auto& p : r.presegmentation)
-      for (const auto& q : p.unknown_points) *x = q.x(), *y = q.y(), *z = q.z(), ++x, ++y, ++z;
-    unassigned_pub_.publish(cloud);
-  }
+  for (auto& m : relationMarkers(r.relations, centres, map_frame_, header.stamp, marker_id))
+    markers.markers.push_back(m);
+  return markers;
+}
+
+sensor_msgs::PointCloud2 TrackerNodelet::unassignedPoints(const PipelineResult& r, const std_msgs::Header& header) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header = header;
+  std::size_t n = 0;
+  for (const auto& p : r.presegmentation) n += p.unknown_points.size();
+  sensor_msgs::PointCloud2Modifier mod(cloud);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(n);
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  for (const auto& p : r.presegmentation)
+    for (const auto& q : p.unknown_points) *x = q.x(), *y = q.y(), *z = q.z(), ++x, ++y, ++z;
+  return cloud;
 }
 
 void TrackerNodelet::publishDiagnostics(const std::string& problem, const PipelineResult* r) {

@@ -20,6 +20,8 @@
 #include <scene_graph_tracker/AddTrack.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 #include <scene_graph_tracker/RemoveTrack.h>
+#include <scene_graph_tracker/SceneGraph.h>
+#include <scene_graph_tracker/TrackedObjectArray.h>
 #include <scene_graph_tracker/TrackerConfig.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -28,6 +30,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <deque>
 #include <memory>
@@ -53,6 +56,10 @@ class TrackerNodelet : public nodelet::Nodelet {
   bool onAddTrack(scene_graph_tracker::AddTrack::Request& req, scene_graph_tracker::AddTrack::Response& res);
   bool onRemoveTrack(scene_graph_tracker::RemoveTrack::Request& req, scene_graph_tracker::RemoveTrack::Response& res);
   void publish(const PipelineResult& r, const ::ros::Time& stamp);
+  scene_graph_tracker::TrackedObject trackedObjectMessage(const TrackedObject& o, const TrackedObject* parent) const;
+  scene_graph_tracker::SceneGraphNode graphNodeMessage(const TrackedObject& o, const TrackedObject* parent) const;
+  visualization_msgs::MarkerArray markers(const PipelineResult& r, const std_msgs::Header& header) const;
+  static sensor_msgs::PointCloud2 unassignedPoints(const PipelineResult& r, const std_msgs::Header& header);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
   void warn(const std::string& text);
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);

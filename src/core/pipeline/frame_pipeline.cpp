@@ -114,7 +114,9 @@ std::vector<RangeMeasurements> FramePipeline::objectSets(const std::vector<Range
 std::vector<PoseHypothesis> FramePipeline::acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses) const {
   std::vector<PoseHypothesis> accepted;
   for (const PoseHypothesis& h : hypotheses)
-    if (h.score >= options_.min_hypothesis_score && catalog_->contains(h.class_name)) accepted.push_back(h);
+    if (h.score >= options_.min_hypothesis_score && catalog_->contains(h.class_name) &&
+        h.T_base_object.matrix().allFinite())
+      accepted.push_back(h);
   return accepted;
 }
 
