@@ -2,12 +2,13 @@
 // no sensor, only the numbers a frame would give.
 #include <gtest/gtest.h>
 
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/tracking/track_lifecycle.hpp"
 
 namespace sgt {
 namespace {
 
-const LifecycleOptions kOptions;
+const LifecycleOptions kOptions = lifecycleOptions(PipelineOptions{});  // the package's defaults
 
 ObjectQuality fit(RefineStatus status, int inliers, double inlier_ratio, int expected = 200) {
   ObjectQuality q;

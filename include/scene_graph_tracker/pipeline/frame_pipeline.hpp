@@ -82,6 +82,9 @@ struct PipelineResult {
   std::vector<relations::Edge> relations;  // stable relation edges (after hysteresis)
 };
 
+// The life-cycle options among the pipeline's.
+LifecycleOptions lifecycleOptions(const PipelineOptions& options);
+
 class FramePipeline {
  public:
   FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::shared_ptr<const TriangleMesh> static_map,
@@ -140,7 +143,7 @@ class FramePipeline {
   void gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
                            const std::vector<std::size_t>& order, const std::vector<RangeMeasurements>& sets);
   void dropTrack(std::size_t k);
-  LifecycleOptions lifecycleOptions() const;
+  LifecycleOptions lifecycleOptions() const { return sgt::lifecycleOptions(options_); }
   void setTracksEnabled(bool enabled);
 
   // Whether the measurements show track k missing at its current pose in the scene: of the rays

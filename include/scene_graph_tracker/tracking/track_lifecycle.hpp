@@ -17,25 +17,26 @@ namespace sgt {
 enum class TrackState { kTentative, kConfirmed, kLost, kRemoved };
 const char* toString(TrackState s);
 
-// The life-cycle options (PipelineOptions holds them under the same names; see there for units).
+// The life-cycle options. PipelineOptions holds them under the same names, with their defaults
+// and units; lifecycleOptions(PipelineOptions) in pipeline/frame_pipeline.hpp makes one of these.
 struct LifecycleOptions {
-  double association_distance = 0.15;
-  double reacquire_distance = 0.6;
-  int confirm_hits = 3;
-  int confirm_detections = 3;
-  double confirm_inlier_ratio = 0.55;
-  int min_weak_fit_inliers = 6;
-  double fit_support_weight = 0.25;
-  double min_fit_support = 0.65;
-  double remove_after_s = 1.0;
-  double remove_tentative_after_s = 0.3;
-  double tentative_timeout_s = 1.0;
-  double lost_track_max_jump_m = 0.03;
-  double lost_track_resume_inlier_ratio = 0.8;
-  double research_below_fit_support = 0.9;
-  double orientation_search_interval_s = 2.0;
-  int min_points = 12;            // the refiner's alignment.min_points: a fit needs this many
-  double min_inlier_ratio = 0.3;  // the refiner's: below it a fit explains nothing there
+  double association_distance;
+  double reacquire_distance;
+  int confirm_hits;
+  int confirm_detections;
+  double confirm_inlier_ratio;
+  int min_weak_fit_inliers;
+  double fit_support_weight;
+  double min_fit_support;
+  double remove_after_s;
+  double remove_tentative_after_s;
+  double tentative_timeout_s;
+  double lost_track_max_jump_m;
+  double lost_track_resume_inlier_ratio;
+  double research_below_fit_support;
+  double orientation_search_interval_s;
+  int min_points;            // the refiner's alignment.min_points: a fit needs this many
+  double min_inlier_ratio;  // the refiner's: below it a fit explains nothing there
 };
 
 // What a track knows of its own history.

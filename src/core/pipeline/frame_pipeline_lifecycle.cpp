@@ -6,9 +6,8 @@
 
 namespace sgt {
 
-LifecycleOptions FramePipeline::lifecycleOptions() const {
-  const PipelineOptions& p = options_;
-  LifecycleOptions o;
+LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
+  LifecycleOptions o{};
   o.association_distance = p.association_distance, o.reacquire_distance = p.reacquire_distance;
   o.confirm_hits = p.confirm_hits, o.confirm_detections = p.confirm_detections;
   o.confirm_inlier_ratio = p.confirm_inlier_ratio, o.min_weak_fit_inliers = p.min_weak_fit_inliers;
