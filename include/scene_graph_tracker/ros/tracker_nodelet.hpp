@@ -5,8 +5,9 @@
 // (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
 // map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
-// ~add_track, ~remove_track. Parameters: see config/tracker.yaml and the README; thresholds,
-// iteration counts and switches also at run time (dynamic_reconfigure, cfg/Tracker.cfg).
+// ~add_track, ~remove_track. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
+// config/tracker.yaml, README "Tracker parameters"; most also at run time (dynamic_reconfigure,
+// cfg/Tracker.cfg).
 #pragma once
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -58,8 +59,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::unique_ptr<FramePipeline> pipeline_;
   std::mutex mutex_;  // pipeline_ and the buffers below
   std::string map_frame_, odom_frame_, base_frame_;
-  bool publish_map_odom_ = true, publish_object_tf_ = false;
-  double hypothesis_max_age_ = 0.1;
+  bool publish_map_odom_{}, publish_object_tf_{};  // these three: params::TrackerNodeOptions (onInit)
+  double hypothesis_max_age_{};
   std::deque<sensor_msgs::PointCloud2ConstPtr> clouds_;
   std::deque<scene_graph_tracker::PoseHypothesisArrayConstPtr> hypotheses_;
   ::ros::Time last_stamp_;
