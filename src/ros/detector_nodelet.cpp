@@ -18,9 +18,16 @@ void DetectorNodelet::onInit() {
   ::ros::NodeHandle& nh = getNodeHandle();
   ::ros::NodeHandle& pnh = getPrivateNodeHandle();
   // Every parameter of the schema (pipeline/parameter_schema.hpp) by its name; the others keep
-  // the option structs' defaults.
+  // the option structs' defaults. A bad value stops the nodelet (the loader does not say why).
   params::DetectorParameters p;
-  for (const std::string& name : readParameters(pnh, params::detectorSchema(), p))
+  std::vector<std::string> unknown;
+  try {
+    unknown = readParameters(pnh, params::detectorSchema(), p);
+  } catch (const params::ParameterError& e) {
+    NODELET_FATAL("detector: %s", e.what());
+    throw;
+  }
+  for (const std::string& name : unknown)
     NODELET_WARN("detector: ~%s is no parameter of the detector (ignored; see README \"Detector parameters\")",
                  name.c_str());
   const std::string& model = p.model;

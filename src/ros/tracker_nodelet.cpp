@@ -44,9 +44,16 @@ void TrackerNodelet::onInit() {
   ::ros::NodeHandle& nh = getNodeHandle();
   ::ros::NodeHandle& pnh = getPrivateNodeHandle();
   // Every parameter of the schema (pipeline/parameter_schema.hpp) by its name; the others keep
-  // the option structs' defaults.
+  // the option structs' defaults. A bad value stops the nodelet (the loader does not say why).
   params::TrackerParameters p;
-  for (const std::string& name : readParameters(pnh, params::trackerSchema(), p))
+  std::vector<std::string> unknown;
+  try {
+    unknown = readParameters(pnh, params::trackerSchema(), p);
+  } catch (const params::ParameterError& e) {
+    NODELET_FATAL("tracker: %s", e.what());
+    throw;
+  }
+  for (const std::string& name : unknown)
     NODELET_WARN("tracker: ~%s is no parameter of the tracker (ignored; see README \"Tracker parameters\")",
                  name.c_str());
   map_frame_ = p.node.map_frame, odom_frame_ = p.node.odom_frame, base_frame_ = p.node.base_frame;
