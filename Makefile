@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo latency model clean
+.PHONY: deps build test bench demo latency model params clean
 
 deps:
 	@scripts/install-deps.sh
@@ -75,6 +75,12 @@ model: build
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
 	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model $(basename $(MODEL_OUTPUT)).yaml --output $(MODEL_DIR)/eval \
 	  --write-thresholds --threshold-beta $(MODEL_THRESHOLD_BETA)
+
+# config/tracker.yaml, config/detector.yaml, cfg/Tracker.cfg and the README's parameter tables from
+# the parameter schema (src/core/pipeline/parameter_schema.cpp); test_parameter_schema checks them.
+params: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j$(JOBS) --target print_parameters
+	$(TOOLS)/print_parameters --write $(CURDIR)
 
 clean:
 	rm -rf $(BUILD)

@@ -7,6 +7,12 @@
 //                                         images instead of the bag's hypotheses topic)
 //       [--scenario FILE.yaml]    (the bag's scenario: its declared relations are scored)
 //       [--no-relations]          (no relations, hence no re-parenting: the tracker as before them)
+//       [--params FILE]           (tracker parameters, as the nodelet reads them; default
+//                                  config/tracker.yaml: offline and live runs use the same values)
+//       [--detector-params FILE]  (detector parameters with --detector; default config/detector.yaml)
+// Options: the structs' defaults, then the parameter files, then the flags: --oracle-localization
+// turns localize off, --no-relations relations/enabled, and --detector turns search_orientations
+// on (as tracker.launch sets it to its detector argument).
 // Writes DIR/report.json, DIR/report.md, DIR/timeseries.csv and DIR/*.png, prints the table.
 #include <chrono>
 #include <cstdlib>
@@ -22,6 +28,7 @@
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
 #include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/bag_frames.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
 #include "scene_graph_tracker/simulation/scenario.hpp"
@@ -36,13 +43,15 @@ struct Args {
   bool oracle_localization = false;  // robot pose from the ground truth: scores objects alone
   std::string detector;              // model metadata YAML; empty: the bag's hypotheses
   bool relations = true;
+  std::string params = std::string(SGT_SOURCE_DIR) + "/config/tracker.yaml";
+  std::string detector_params = std::string(SGT_SOURCE_DIR) + "/config/detector.yaml";
 };
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate",
                               "--bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
                               "[--no-plots] [--oracle-localization] [--detector MODEL.yaml|default] [--scenario FILE] "
-                              "[--no-relations]");
+                              "[--no-relations] [--params FILE] [--detector-params FILE]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag") a.bag = value();
@@ -55,6 +64,8 @@ Args parse(int argc, char** argv) {
     else if (k == "--detector") a.detector = value();
     else if (k == "--scenario") a.scenario = value();
     else if (k == "--no-relations") a.relations = false;
+    else if (k == "--params") a.params = value();
+    else if (k == "--detector-params") a.detector_params = value();
     else return false;
     return true;
   });
@@ -86,6 +97,10 @@ int main(int argc, char** argv) {
   using namespace sgt;
   const Args args = parse(argc, argv);
   try {
+    params::TrackerParameters tracker_params;
+    params::applyYamlFile(params::trackerSchema(), tracker_params, args.params);
+    params::DetectorParameters detector_params;
+    if (!args.detector.empty()) params::applyYamlFile(params::detectorSchema(), detector_params, args.detector_params);
     auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(args.catalog, args.mesh_dir));
     std::optional<Building> building;
     if (args.map == "building") building = makeBuilding();
@@ -93,20 +108,22 @@ int main(int argc, char** argv) {
     std::optional<sim::Scenario> scenario;
     if (!args.scenario.empty()) scenario = sim::loadScenario(args.scenario);
     sgt::ros::BagFrameReader reader(args.bag);
+    reader.setAssemblerOptions(sgt::ros::assemblerOptions(tracker_params.node));  // as the nodelet
     std::unique_ptr<detection::PoseDetector> detector;
     if (!args.detector.empty()) {
-      detector = std::make_unique<detection::PoseDetector>(args.detector, *catalog);
+      detector = std::make_unique<detection::PoseDetector>(args.detector, *catalog, detector_params.decode,
+                                                           detector_params.pnp);
       reader.setReadRgb(true);
     }
     std::size_t frames_without_rgb = 0;
     std::map<std::string, std::pair<std::size_t, std::size_t>> detections_by_class;  // detections, PnP accepted
     std::set<std::string> detected;  // true objects a hypothesis has found (scored from then on)
-    PipelineOptions options;
-    options.localize = !args.oracle_localization;
-    options.compute_relations = args.relations;
+    PipelineOptions options = tracker_params.pipeline;
+    if (args.oracle_localization) options.localize = false;
+    if (!args.relations) options.compute_relations = false;
     // The keypoint detector mixes up box corners (a turned box); simulated hypotheses do not, and
     // on nearly symmetric shapes the search can trade their right rotation for a flipped one.
-    options.search_orientations = detector != nullptr;
+    if (detector) options.search_orientations = true;
     FramePipeline pipeline(catalog, map, options);
     std::set<std::string> furniture;
     if (building) {  // the generated building's workbench top: the only furniture it describes

@@ -10,21 +10,31 @@
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/parameters.hpp"
 
 namespace sgt::ros {
 
 void DetectorNodelet::onInit() {
   ::ros::NodeHandle& nh = getNodeHandle();
   ::ros::NodeHandle& pnh = getPrivateNodeHandle();
-  const std::string model = pnh.param<std::string>("model", std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml");
-  const std::string catalog_path = pnh.param<std::string>("catalog", std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
-  const std::string mesh_dir = pnh.param<std::string>("mesh_dir", "");
-  detection::DecodeOptions decode;
-  decode.score_threshold = static_cast<float>(pnh.param("score_threshold", double(decode.score_threshold)));
-  decode.nms_iou = static_cast<float>(pnh.param("nms_iou", double(decode.nms_iou)));
-  detection::PnpOptions pnp;
-  pnp.min_visibility = static_cast<float>(pnh.param("min_visibility", double(pnp.min_visibility)));
-  pnp.max_reprojection_px = pnh.param("max_reprojection_px", pnp.max_reprojection_px);
+  // Every parameter of the schema (pipeline/parameter_schema.hpp) by its name; the others keep
+  // the option structs' defaults. A bad value stops the nodelet (the loader does not say why).
+  params::DetectorParameters p;
+  std::vector<std::string> unknown;
+  try {
+    unknown = readParameters(pnh, params::detectorSchema(), p);
+  } catch (const params::ParameterError& e) {
+    NODELET_FATAL("detector: %s", e.what());
+    throw;
+  }
+  for (const std::string& name : unknown)
+    NODELET_WARN("detector: ~%s is no parameter of the detector (ignored; see README \"Detector parameters\")",
+                 name.c_str());
+  const std::string& model = p.model;
+  const std::string& catalog_path = p.catalog;
+  const std::string& mesh_dir = p.mesh_dir;
+  const detection::DecodeOptions& decode = p.decode;
+  const detection::PnpOptions& pnp = p.pnp;
   try {
     const ObjectCatalog catalog = loadObjectCatalog(catalog_path, mesh_dir);
     detector_ = std::make_unique<detection::PoseDetector>(model, catalog, decode, pnp);
@@ -39,8 +49,8 @@ void DetectorNodelet::onInit() {
                info.input_height, info.names.size(), decode.score_threshold);
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
-  depth_max_offset_ = pnh.param("depth_max_offset", depth_max_offset_);
-  if (pnh.param("use_depth", true)) depth_sub_ = nh.subscribe("depth", 3, &DetectorNodelet::onDepth, this);
+  depth_max_offset_ = p.depth_max_offset;
+  if (p.use_depth) depth_sub_ = nh.subscribe("depth", 3, &DetectorNodelet::onDepth, this);
   image_sub_.subscribe(nh, "image", 2);
   info_sub_.subscribe(nh, "camera_info", 2);
   sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_, info_sub_);

@@ -2,10 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "scene_graph_tracker/ros/closest_in_time.hpp"
 
 namespace sgt::ros {
+
+FrameAssemblerOptions assemblerOptions(const params::TrackerNodeOptions& node) {
+  FrameAssemblerOptions o;
+  o.odom_frame = node.odom_frame, o.base_frame = node.base_frame;
+  o.hypothesis_max_age = node.hypothesis_max_age;
+  o.lidar = node.lidar;
+  o.lidar.theta_inc = 2.0 * M_PI / o.lidar.columns;  // one turn over the columns
+  if (!(o.lidar.phi_min < o.lidar.phi_max) || !(o.lidar.range_min < o.lidar.range_max))
+    throw std::invalid_argument("lidar/* parameters describe no sensor");
+  return o;
+}
 
 FrameAssembler::FrameAssembler(FrameAssemblerOptions options, Lookup lookup)
     : options_(std::move(options)),

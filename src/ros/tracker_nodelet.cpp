@@ -13,6 +13,7 @@
 
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/parameters.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
 
@@ -36,63 +37,30 @@ std::uint8_t stateCode(TrackState s) {
                                        : scene_graph_tracker::TrackedObject::LOST;
 }
 
-// How frames are put together (frame_assembler.hpp): frames, the hypotheses' window, the LiDAR.
-FrameAssemblerOptions assemblerOptions(::ros::NodeHandle& pnh, const std::string& odom_frame,
-                                       const std::string& base_frame) {
-  FrameAssemblerOptions o;
-  o.odom_frame = odom_frame, o.base_frame = base_frame;
-  o.hypothesis_max_age = pnh.param("hypothesis_max_age", o.hypothesis_max_age);
-  SpinningLidarModel& l = o.lidar;  // the VLP-16 unless the parameters describe another
-  if (pnh.getParam("lidar/columns", l.columns)) l.theta_inc = 2.0 * M_PI / l.columns;
-  pnh.getParam("lidar/rings", l.rings);
-  double value = 0.0;
-  if (pnh.getParam("lidar/min_elevation_deg", value)) l.phi_min = value * M_PI / 180.0;
-  if (pnh.getParam("lidar/max_elevation_deg", value)) l.phi_max = value * M_PI / 180.0;
-  if (pnh.getParam("lidar/range_min", value)) l.range_min = static_cast<float>(value);
-  if (pnh.getParam("lidar/range_max", value)) l.range_max = static_cast<float>(value);
-  if (l.columns < 1 || l.rings < 1 || !(l.phi_min < l.phi_max) || !(l.range_min < l.range_max))
-    throw std::invalid_argument("tracker: lidar/* parameters describe no sensor");
-  return o;
-}
-
 }  // namespace
 
 void TrackerNodelet::onInit() {
   ::ros::NodeHandle& nh = getNodeHandle();
   ::ros::NodeHandle& pnh = getPrivateNodeHandle();
-  map_frame_ = pnh.param<std::string>("map_frame", "map");
-  odom_frame_ = pnh.param<std::string>("odom_frame", "odom");
-  base_frame_ = pnh.param<std::string>("base_frame", "base_link");
-  publish_map_odom_ = pnh.param("publish_map_odom", true);
-  publish_object_tf_ = pnh.param("publish_object_tf", false);
-
-  PipelineOptions o;
-  o.refiner.rounds = pnh.param("refine/rounds", o.refiner.rounds);
-  o.refiner.steps = pnh.param("refine/steps", o.refiner.steps);
-  o.refiner.max_dist_first = static_cast<float>(pnh.param("refine/max_dist_first", double(o.refiner.max_dist_first)));
-  o.refiner.max_dist_last = static_cast<float>(pnh.param("refine/max_dist_last", double(o.refiner.max_dist_last)));
-  o.localize = pnh.param("localize", o.localize);
-  o.association_distance = pnh.param("association_distance", o.association_distance);
-  o.remove_after_s = pnh.param("remove_after", o.remove_after_s);
-  o.min_fit_support = pnh.param("min_fit_support", o.min_fit_support);
-  o.min_weak_fit_inliers = pnh.param("min_weak_fit_inliers", o.min_weak_fit_inliers);
-  o.max_sunk_fraction = pnh.param("max_sunk_fraction", o.max_sunk_fraction);
-  o.min_hypothesis_score = pnh.param("min_hypothesis_score", o.min_hypothesis_score);
-  o.run_presegmentation = pnh.param("presegment", o.run_presegmentation);
-  o.search_orientations = pnh.param("search_orientations", o.search_orientations);
-  o.research_below_fit_support = pnh.param("research_below_fit_support", o.research_below_fit_support);
-  o.contest_restarts = pnh.param("contest_restarts", o.contest_restarts);
-  o.compute_relations = pnh.param("relations/enabled", o.compute_relations);
-  o.reparent = pnh.param("relations/reparent", o.reparent);
-  o.relation_options.directional = pnh.param("relations/directional", o.relation_options.directional);
-  o.relation_options.camera_relative = pnh.param("relations/camera_relative", o.relation_options.camera_relative);
-  if (pnh.param("relations/relaxed", false)) o.relation_options.directional_mode = relations::Mode::Relaxed;
-  o.relation_hysteresis.appear_frames = pnh.param("relations/appear_frames", o.relation_hysteresis.appear_frames);
-  o.relation_hysteresis.disappear_frames = pnh.param("relations/disappear_frames", o.relation_hysteresis.disappear_frames);
-
-  const std::string catalog_path = pnh.param<std::string>("catalog", std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
-  const std::string mesh_dir = pnh.param<std::string>("mesh_dir", "");
-  const std::string map_path = pnh.param<std::string>("static_map", "building");
+  // Every parameter of the schema (pipeline/parameter_schema.hpp) by its name; the others keep
+  // the option structs' defaults. A bad value stops the nodelet (the loader does not say why).
+  params::TrackerParameters p;
+  std::vector<std::string> unknown;
+  try {
+    unknown = readParameters(pnh, params::trackerSchema(), p);
+  } catch (const params::ParameterError& e) {
+    NODELET_FATAL("tracker: %s", e.what());
+    throw;
+  }
+  for (const std::string& name : unknown)
+    NODELET_WARN("tracker: ~%s is no parameter of the tracker (ignored; see README \"Tracker parameters\")",
+                 name.c_str());
+  map_frame_ = p.node.map_frame, odom_frame_ = p.node.odom_frame, base_frame_ = p.node.base_frame;
+  publish_map_odom_ = p.node.publish_map_odom, publish_object_tf_ = p.node.publish_object_tf;
+  const PipelineOptions& o = p.pipeline;
+  const std::string& catalog_path = p.node.catalog;
+  const std::string& mesh_dir = p.node.mesh_dir;
+  const std::string& map_path = p.node.static_map;
   auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(catalog_path, mesh_dir));
   std::optional<Building> building;
   if (map_path == "building") building = makeBuilding();
@@ -105,7 +73,7 @@ void TrackerNodelet::onInit() {
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   assembler_ = std::make_unique<FrameAssembler>(
-      assemblerOptions(pnh, odom_frame_, base_frame_),
+      assemblerOptions(p.node),
       [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
         return toEigen(tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
       });
@@ -123,12 +91,11 @@ void TrackerNodelet::onInit() {
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
   // Run-time parameters start from the values loaded above (config/tracker.yaml).
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(reconfigure_mutex_, pnh);
-  scene_graph_tracker::TrackerConfig initial;
-  initial.refine_rounds = o.refiner.rounds, initial.refine_steps = o.refiner.steps;
-  initial.max_dist_first = o.refiner.max_dist_first, initial.max_dist_last = o.refiner.max_dist_last;
-  initial.association_distance = o.association_distance, initial.remove_after = o.remove_after_s;
-  initial.min_hypothesis_score = o.min_hypothesis_score, initial.localize = o.localize;
-  initial.presegment = o.run_presegmentation;
+  scene_graph_tracker::TrackerConfig initial = scene_graph_tracker::TrackerConfig::__getDefault__();
+  dynamic_reconfigure::Config values;
+  initial.__toMessage__(values);
+  toReconfigure(params::trackerSchema(), p, values);
+  if (!initial.__fromMessage__(values)) throw params::ParameterError("cfg/Tracker.cfg does not match the schema");
   reconfigure_->updateConfig(initial);
   reconfigure_->setCallback(boost::bind(&TrackerNodelet::onReconfigure, this, boost::placeholders::_1,
                                         boost::placeholders::_2));
@@ -311,15 +278,18 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
 
 void TrackerNodelet::onReconfigure(scene_graph_tracker::TrackerConfig& c, std::uint32_t) {
   std::lock_guard<std::mutex> lock(mutex_);
-  PipelineOptions o = pipeline_->options();
-  o.refiner.rounds = c.refine_rounds, o.refiner.steps = c.refine_steps;
-  o.refiner.max_dist_first = static_cast<float>(c.max_dist_first);
-  o.refiner.max_dist_last = static_cast<float>(c.max_dist_last);
-  o.association_distance = c.association_distance, o.remove_after_s = c.remove_after;
-  o.min_hypothesis_score = c.min_hypothesis_score, o.localize = c.localize, o.run_presegmentation = c.presegment;
-  pipeline_->setOptions(o);
-  NODELET_INFO("tracker: reconfigured (%d rounds x %d steps, thresholds %.3f -> %.3f m)", c.refine_rounds,
-               c.refine_steps, c.max_dist_first, c.max_dist_last);
+  // Every run-time parameter of the schema, by its dynamic_reconfigure name.
+  const params::TrackerParameters before{pipeline_->options(), {}};
+  params::TrackerParameters after = before;
+  dynamic_reconfigure::Config values;
+  c.__toMessage__(values);
+  fromReconfigure(params::trackerSchema(), values, after);
+  std::string changed;
+  for (const auto& p : params::trackerSchema())
+    if (p.runtime && p.get(after) != p.get(before))
+      changed += (changed.empty() ? "" : ", ") + p.name + " " + params::format(p, p.get(after));
+  pipeline_->setOptions(after.pipeline);
+  if (!changed.empty()) NODELET_INFO("tracker: reconfigured: %s", changed.c_str());
 }
 
 bool TrackerNodelet::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

@@ -18,6 +18,7 @@
 
 #include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/sensors/noise.hpp"
@@ -197,6 +198,39 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   EXPECT_GT(objects_count_, before);
   EXPECT_LT(worstError(matched), 0.005);
   EXPECT_EQ(matched, 5u);
+
+  // The node runs with the option structs' defaults: each run-time parameter, as dynamic_reconfigure
+  // holds it (and last gave it to the pipeline), equals the schema's default (config/tracker.yaml;
+  // search_orientations is tracker.launch's detector argument, false here as by default).
+  dynamic_reconfigure::Reconfigure current;
+  ASSERT_TRUE(::ros::service::call("/tracker/set_parameters", current));
+  const params::TrackerParameters defaults;
+  std::size_t compared = 0;
+  for (const auto& p : params::trackerSchema()) {
+    if (!p.runtime) continue;
+    const std::string name = params::reconfigureName(p.name);
+    const params::Value d = p.get(defaults);
+    for (const auto& x : current.response.config.bools) {
+      if (x.name != name) continue;
+      EXPECT_EQ(bool(x.value), std::get<bool>(d)) << name;
+      ++compared;
+    }
+    for (const auto& x : current.response.config.ints) {
+      if (x.name != name) continue;
+      EXPECT_EQ(x.value, std::get<int>(d)) << name;
+      ++compared;
+    }
+    for (const auto& x : current.response.config.doubles) {
+      if (x.name != name) continue;
+      if (p.single) {
+        EXPECT_EQ(float(x.value), float(std::get<double>(d))) << name;
+      } else {
+        EXPECT_EQ(x.value, std::get<double>(d)) << name;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 70u);
 
   // Run-time reconfiguration (dynamic_reconfigure): fewer rounds, still tracking.
   dynamic_reconfigure::Reconfigure srv;

@@ -1,5 +1,6 @@
 // The tracker's options: one struct, grouped by the stage that reads them. Defaults here are the
-// package's defaults; config/tracker.yaml restates them for the nodes and evaluate.
+// package's defaults, written only here: the parameter schema (parameter_schema.hpp) names the
+// fields users set and generates config/tracker.yaml, cfg/Tracker.cfg and the README tables.
 #pragma once
 
 #include "scene_graph_tracker/registration/localizer.hpp"

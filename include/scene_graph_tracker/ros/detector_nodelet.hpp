@@ -8,8 +8,8 @@
 // accepted pose gets its distance from the depth image closest in time (within
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
 // (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
-// nodelet warns. Parameters: model (metadata YAML of the ONNX model), catalog, mesh_dir,
-// score_threshold, nms_iou, min_visibility, max_reprojection_px, use_depth, depth_max_offset.
+// nodelet warns. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
+// config/detector.yaml, README "Detector parameters"; read at start.
 // Bad input is warned about (throttled) and skipped; the nodelet keeps running.
 #pragma once
 
@@ -53,7 +53,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   ::ros::Subscriber depth_sub_;
   std::mutex depth_mutex_;  // the depth buffer is filled by its own callback
   std::deque<sensor_msgs::ImageConstPtr> depth_images_;
-  double depth_max_offset_ = 0.02;
+  double depth_max_offset_{};  // params::DetectorParameters (onInit)
   PinholeRayCache depth_rays_;
 };
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 
 namespace sgt::ros {
@@ -32,6 +33,10 @@ struct FrameAssemblerOptions {
   SpinningLidarModel lidar = SpinningLidarModel::vlp16();
   std::size_t max_buffered_clouds = 5, max_buffered_hypotheses = 30;
 };
+
+// The options from the tracker's node parameters (frames, hypothesis_max_age, lidar/*); throws
+// std::invalid_argument when they describe no LiDAR.
+FrameAssemblerOptions assemblerOptions(const params::TrackerNodeOptions& node);
 
 struct AssembledFrame {
   PipelineFrame frame;

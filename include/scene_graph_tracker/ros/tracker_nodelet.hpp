@@ -6,8 +6,9 @@
 // (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
 // map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
-// ~add_track, ~remove_track. Parameters: see config/tracker.yaml and the README; thresholds,
-// iteration counts and switches also at run time (dynamic_reconfigure, cfg/Tracker.cfg).
+// ~add_track, ~remove_track. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
+// config/tracker.yaml, README "Tracker parameters"; most also at run time (dynamic_reconfigure,
+// cfg/Tracker.cfg).
 #pragma once
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -68,7 +69,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::unique_ptr<FrameAssembler> assembler_;
   std::mutex mutex_;  // pipeline_ and assembler_
   std::string map_frame_, odom_frame_, base_frame_;
-  bool publish_map_odom_ = true, publish_object_tf_ = false;
+  bool publish_map_odom_{}, publish_object_tf_{};  // params::TrackerNodeOptions (onInit)
   ::ros::Time last_stamp_;
   WarningThrottle warnings_;
 
