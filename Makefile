@@ -26,7 +26,9 @@ bench: build
 	cmake --build $(BUILD) -j$(JOBS) --target benchmarks
 	@scripts/run-benchmarks.sh $(BUILD)
 
-# Simulate the default scenario into a bag, then replay it through the pipeline and score it.
+# Simulate the default scenario into a bag and write its static world beside it (write_map: the
+# simulated building as a mesh and its workbench top as furniture, what replay.launch passes to the
+# tracker), then replay the bag through the pipeline on that map and score it.
 DEMO_DIR ?= $(BUILD)/demo
 DEMO_SCENARIO ?= config/scenarios/workbench.yaml
 # Hypotheses from the package's keypoint detector on the RGB images (models/sgt_keypoints.yaml);
@@ -36,7 +38,9 @@ TOOLS := $(BUILD)/devel/lib/scene_graph_tracker
 demo: build
 	@mkdir -p $(DEMO_DIR)
 	$(TOOLS)/simulate --scenario $(DEMO_SCENARIO) --output $(DEMO_DIR)/workbench.bag $(DEMO_SIMULATE_ARGS)
+	$(TOOLS)/write_map --scenario $(DEMO_SCENARIO) --mesh $(DEMO_DIR)/static_map.ply --furniture $(DEMO_DIR)/furniture.yaml
 	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) --scenario $(DEMO_SCENARIO) \
+	  --map $(DEMO_DIR)/static_map.ply --furniture $(DEMO_DIR)/furniture.yaml \
 	  $(if $(DEMO_DETECTOR),--detector $(DEMO_DETECTOR)) $(DEMO_EVALUATE_ARGS)
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.

@@ -11,7 +11,7 @@
 
 #include "paper_scene.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
 
 namespace sgt::bench {

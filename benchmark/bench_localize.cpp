@@ -12,8 +12,8 @@
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::bench {
 namespace {

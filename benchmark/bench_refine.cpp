@@ -17,8 +17,8 @@
 #include "pcl_icp_baseline.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::bench {
 namespace {

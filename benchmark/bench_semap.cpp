@@ -1,5 +1,5 @@
 // SEMAP query latency: the SQL relation functions on a throw-away PostgreSQL + PostGIS server
-// (started by the program, test/ros/pg_server.hpp) against the C++ engine's holds() on the same
+// (started by the program, test/semap/pg_server.hpp) against the C++ engine's holds() on the same
 // scene: a workbench with the five catalog objects on it and a relay inside the KLT (7 objects,
 // 42 ordered pairs). Each benchmark runs 200 calls and reports the median per call (median_us)
 // next to Google Benchmark's mean.
@@ -16,7 +16,7 @@
 
 #include "pg_server.hpp"
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
-#include "scene_graph_tracker/ros/semap_bridge.hpp"
+#include "scene_graph_tracker/semap/bridge.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 
 namespace sgt::bench {

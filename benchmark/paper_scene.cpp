@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
-#include "scene_graph_tracker/geometry/procedural_objects.hpp"
+#include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 namespace sgt::bench {
 namespace {

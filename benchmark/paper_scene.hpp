@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 
 namespace sgt::bench {

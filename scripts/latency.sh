@@ -12,6 +12,12 @@ if [ ! -f "$bag" ]; then
   mkdir -p "$(dirname "$bag")"
   "$tools/simulate" --scenario "$root/config/scenarios/workbench.yaml" --output "$bag" --quiet
 fi
+# replay.launch takes the static world from beside the bag (as `make demo` writes it).
+map_dir="$(dirname "$bag")"
+if [ ! -f "$map_dir/static_map.ply" ] || [ ! -f "$map_dir/furniture.yaml" ]; then
+  "$tools/write_map" --scenario "$root/config/scenarios/workbench.yaml" --mesh "$map_dir/static_map.ply" \
+    --furniture "$map_dir/furniture.yaml"
+fi
 set +u; source "$root/build/devel/setup.bash"; set -u
 export ROS_PACKAGE_PATH="$root:${ROS_PACKAGE_PATH:-}"
 port=11398

@@ -1,7 +1,10 @@
 // Offline evaluation: runs the tracker's per-frame pipeline over a bag (no roscore) and, when the
 // bag has ground truth, scores it.
 //   rosrun scene_graph_tracker evaluate --bag IN.bag --output DIR
-//       [--map building|FILE.urdf|FILE.stl] [--catalog objects.yaml] [--mesh-dir DIR] [--no-plots]
+//       [--map building|FILE.urdf|FILE.ply] [--furniture FILE.yaml] [--catalog objects.yaml]
+//       [--mesh-dir DIR] [--no-plots]
+//       (--map building: the generated building with its workbench top as furniture, built here;
+//        write_map writes it as files, the way the tracker nodelet takes it)
 //       [--oracle-localization]   (robot pose from the bag's ground truth: objects scored alone)
 //       [--detector MODEL.yaml|default]  (hypotheses from the keypoint detector on the bag's RGB
 //                                         images instead of the bag's hypotheses topic)
@@ -27,10 +30,11 @@
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
-#include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
+#include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/bag_frames.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
+#include "scene_graph_tracker/simulation/building_map.hpp"
 #include "scene_graph_tracker/simulation/scenario.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
 
@@ -39,6 +43,7 @@ namespace {
 struct Args {
   std::string bag, output, map = "building", catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", mesh_dir;
   std::string scenario;
+  std::string furniture;  // furniture YAML (relations/furniture.hpp); replaces the building's workbench
   bool plots = true;
   bool oracle_localization = false;  // robot pose from the ground truth: scores objects alone
   std::string detector;              // model metadata YAML; empty: the bag's hypotheses
@@ -49,14 +54,15 @@ struct Args {
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate",
-                              "--bag IN.bag --output DIR [--map building|FILE] [--catalog FILE] [--mesh-dir DIR] "
-                              "[--no-plots] [--oracle-localization] [--detector MODEL.yaml|default] [--scenario FILE] "
-                              "[--no-relations] [--params FILE] [--detector-params FILE]");
+                              "--bag IN.bag --output DIR [--map building|FILE] [--furniture FILE] [--catalog FILE] "
+                              "[--mesh-dir DIR] [--no-plots] [--oracle-localization] [--detector MODEL.yaml|default] "
+                              "[--scenario FILE] [--no-relations] [--params FILE] [--detector-params FILE]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag") a.bag = value();
     else if (k == "--output") a.output = value();
     else if (k == "--map") a.map = value();
+    else if (k == "--furniture") a.furniture = value();
     else if (k == "--catalog") a.catalog = value();
     else if (k == "--mesh-dir") a.mesh_dir = value();
     else if (k == "--no-plots") a.plots = false;
@@ -125,11 +131,12 @@ int main(int argc, char** argv) {
     // on nearly symmetric shapes the search can trade their right rotation for a flipped one.
     if (detector) options.search_orientations = true;
     FramePipeline pipeline(catalog, map, options);
+    std::vector<relations::Entity> furniture_entities;
+    if (!args.furniture.empty()) furniture_entities = relations::loadFurniture(args.furniture);
+    else if (building) furniture_entities = {sim::workbenchEntity(*building)};  // the only furniture it describes
     std::set<std::string> furniture;
-    if (building) {  // the generated building's workbench top: the only furniture it describes
-      pipeline.setFurniture({relations::workbenchEntity(*building, sim::kWorkbenchName)});
-      furniture.insert(sim::kWorkbenchName);
-    }
+    for (const relations::Entity& e : furniture_entities) furniture.insert(e.name);
+    pipeline.setFurniture(std::move(furniture_entities));
     const PoseScorer score(*catalog);  // ADD-S to each class's surface
 
     EvaluationReport report;

@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
-#include "scene_graph_tracker/geometry/procedural_objects.hpp"
+#include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : std::string(SGT_SOURCE_DIR) + "/meshes";

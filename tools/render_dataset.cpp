@@ -30,7 +30,7 @@
 #include <string>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"

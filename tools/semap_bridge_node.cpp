@@ -1,9 +1,9 @@
 // semap_bridge: the tracker's scene graph into the SEMAP database (PostgreSQL + PostGIS +
-// SFCGAL) and spatial queries answered from it. See include/scene_graph_tracker/ros/semap_bridge.hpp
+// SFCGAL) and spatial queries answered from it. See include/scene_graph_tracker/semap/bridge.hpp
 // and config/semap.yaml.
 #include <ros/ros.h>
 
-#include "scene_graph_tracker/ros/semap_bridge.hpp"
+#include "scene_graph_tracker/semap/bridge.hpp"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "semap_bridge");

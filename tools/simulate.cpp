@@ -1,4 +1,4 @@
-// Simulates a scenario into a rosbag with ground truth (topics: include/scene_graph_tracker/ros/scenario_bag.hpp,
+// Simulates a scenario into a rosbag with ground truth (topics: include/scene_graph_tracker/simulation/scenario_bag.hpp,
 // scenario format: README.md "Scenario format").
 //
 //   rosrun scene_graph_tracker simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR] [--lz4] [--quiet]
@@ -8,7 +8,7 @@
 #include <iostream>
 #include <string>
 
-#include "scene_graph_tracker/ros/scenario_bag.hpp"
+#include "scene_graph_tracker/simulation/scenario_bag.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <map>
 #include <optional>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/parameters.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
@@ -60,15 +60,20 @@ void TrackerNodelet::onInit() {
   const PipelineOptions& o = p.pipeline;
   const std::string& catalog_path = p.node.catalog;
   const std::string& mesh_dir = p.node.mesh_dir;
+  // The static world: a mesh or URDF, and optionally its furniture (relations/furniture.hpp); for
+  // the simulated building, tools/write_map writes both.
   const std::string& map_path = p.node.static_map;
+  const std::string& furniture_path = p.node.furniture;
+  if (map_path.empty()) {
+    NODELET_FATAL("tracker: ~static_map is required (a mesh file or a URDF of the static world)");
+    throw std::runtime_error("tracker: ~static_map is not set");
+  }
   auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(catalog_path, mesh_dir));
-  std::optional<Building> building;
-  if (map_path == "building") building = makeBuilding();
-  auto map = std::make_shared<TriangleMesh>(building ? building->mesh : loadStaticMap(map_path));
+  auto map = std::make_shared<TriangleMesh>(loadStaticMap(map_path));
   pipeline_ = std::make_unique<FramePipeline>(catalog, map, o);
-  if (building) pipeline_->setFurniture({relations::workbenchEntity(*building)});  // its only described furniture
-  NODELET_INFO("tracker: %zu classes from %s, static map %s (%zu triangles)", catalog->size(), catalog_path.c_str(),
-               map_path.c_str(), map->triangleCount());
+  if (!furniture_path.empty()) pipeline_->setFurniture(relations::loadFurniture(furniture_path));
+  NODELET_INFO("tracker: %zu classes from %s, static map %s (%zu triangles), %zu pieces of furniture", catalog->size(),
+               catalog_path.c_str(), map_path.c_str(), map->triangleCount(), pipeline_->furniture().size());
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);

@@ -9,7 +9,7 @@
 #include <string>
 #include <utility>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"

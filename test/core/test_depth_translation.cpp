@@ -4,7 +4,7 @@
 
 #include "scene_graph_tracker/detection/depth_translation.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
 
 namespace sgt::detection {

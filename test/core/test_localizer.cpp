@@ -5,11 +5,11 @@
 
 #include <random>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
 
 namespace sgt {

@@ -9,7 +9,7 @@
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
 
 namespace sgt {

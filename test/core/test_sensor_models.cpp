@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt {
 namespace {

@@ -14,8 +14,8 @@
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
 
 namespace sgt {

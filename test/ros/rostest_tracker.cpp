@@ -16,13 +16,13 @@
 
 #include <random>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt {
 namespace {
@@ -37,7 +37,7 @@ Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
 class TrackerNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const Building building = makeBuilding();  // the node's static_map "building"
+    const Building building = makeBuilding();  // the node's static_map (written by write_map)
     catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
     world_.setStaticMap(std::make_shared<TriangleMesh>(building.mesh), 1);
     const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();

@@ -42,6 +42,9 @@ std::size_t removeDegenerateTriangles(TriangleMesh& mesh, float min_area = 1e-12
 
 // Writes binary STL (used by tools to export generated meshes).
 void saveStl(const TriangleMesh& mesh, const std::string& path);
+// Writes binary little-endian PLY with the shared vertices and the triangles in their order, so
+// loadMesh reads back the same mesh, bit for bit (e.g. a generated static map).
+void savePly(const TriangleMesh& mesh, const std::string& path);
 
 // Resolves "package://scene_graph_tracker/x" and "file://x" URIs and relative paths
 // (relative to `base_dir`). package:// of other packages is resolved via ROS_PACKAGE_PATH.

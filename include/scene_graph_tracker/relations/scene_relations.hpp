@@ -1,6 +1,7 @@
 // The relations that hold among the things a tracker knows in one frame: tracked objects (movable,
-// with an instance in the ray-casting scene) and static furniture (reference boxes only, e.g. the
-// generated building's workbench top). Rules on top of spatial_relations.hpp and support_rays.hpp:
+// with an instance in the ray-casting scene) and static furniture (reference boxes only, e.g. a
+// workbench top, read by relations/furniture.hpp). Rules on top of spatial_relations.hpp and
+// support_rays.hpp:
 //   in(T, R):  R's box contains T's (tolerance box.tolerance), or T rests by rays on R while
 //              its box intersects R's and its lowest point lies below R's top (a relay standing
 //              on the floor of a KLT and sticking out above the rim).
@@ -25,7 +26,6 @@
 #include <tuple>
 #include <vector>
 
-#include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
 #include "scene_graph_tracker/relations/support_rays.hpp"
 
@@ -71,8 +71,5 @@ struct SceneRelationOptions {
 std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
                                  const SceneRelationOptions& o = {},
                                  const std::optional<Eigen::Isometry3d>& T_world_camera = std::nullopt);
-
-// The workbench top of the generated building as furniture (a 4 cm slab under the top surface).
-Entity workbenchEntity(const Building& building, const std::string& name = "workbench");
 
 }  // namespace sgt::relations

@@ -7,7 +7,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::sim {
 

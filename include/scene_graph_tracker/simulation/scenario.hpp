@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "scene_graph_tracker/geometry/building.hpp"
 #include "scene_graph_tracker/geometry/triangle_mesh.hpp"
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
+#include "scene_graph_tracker/simulation/building_map.hpp"
 
 namespace sgt::sim {
 
@@ -81,9 +81,6 @@ struct DistractorSpec {
   PoseTrajectory trajectory;                                // T_map_distractor
   Eigen::Vector3f color = Eigen::Vector3f(0.55f, 0.55f, 0.55f);
 };
-
-// The name relations use for the workbench top (static furniture of the map).
-inline constexpr const char* kWorkbenchName = "workbench";
 
 // Relation ground truth: `subject` stands in `relation` to `object` for t in [from, to).
 struct RelationSpec {

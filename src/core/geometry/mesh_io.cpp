@@ -6,6 +6,7 @@
 
 #include <assimp/Importer.hpp>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -142,6 +143,24 @@ void saveStl(const TriangleMesh& mesh, const std::string& path) {
     const std::uint16_t attr = 0;
     out.write(reinterpret_cast<const char*>(&attr), 2);
   }
+}
+
+void savePly(const TriangleMesh& mesh, const std::string& path) {
+  static_assert(sizeof(float) == 4 && sizeof(std::uint32_t) == 4, "PLY float and uint are 4 bytes");
+  const std::uint16_t probe = 1;
+  if (*reinterpret_cast<const std::uint8_t*>(&probe) != 1) throw MeshError("savePly: needs a little-endian host");
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw MeshError("cannot write '" + path + "'");
+  out << "ply\nformat binary_little_endian 1.0\ncomment scene_graph_tracker\n"
+      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
+      << "element face " << mesh.triangles.size() << "\nproperty list uchar uint vertex_indices\nend_header\n";
+  for (const Eigen::Vector3f& v : mesh.vertices) out.write(reinterpret_cast<const char*>(v.data()), 12);
+  for (const Triangle& t : mesh.triangles) {
+    const std::uint8_t n = 3;
+    out.write(reinterpret_cast<const char*>(&n), 1);
+    out.write(reinterpret_cast<const char*>(t.data()), 12);
+  }
+  if (!out) throw MeshError("cannot write '" + path + "'");
 }
 
 std::string resolveResourcePath(const std::string& uri, const std::string& base_dir) {

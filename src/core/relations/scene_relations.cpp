@@ -81,14 +81,4 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
   return kept;
 }
 
-Entity workbenchEntity(const Building& building, const std::string& name) {
-  constexpr double kSlab = 0.04;
-  Entity e;
-  e.name = name;
-  e.movable = false;
-  e.box.T_world_box.translation() = building.workbench_top_centre.cast<double>() - Eigen::Vector3d(0, 0, kSlab / 2);
-  e.box.half_extents = Eigen::Vector3d(building.workbench_size.x() / 2, building.workbench_size.y() / 2, kSlab / 2);
-  return e;
-}
-
 }  // namespace sgt::relations

@@ -9,9 +9,9 @@
 #include <random>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/sensors/noise.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::sim {
 namespace {

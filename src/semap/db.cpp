@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/ros/semap_db.hpp"
+#include "scene_graph_tracker/semap/db.hpp"
 
 #include <fstream>
 #include <iomanip>

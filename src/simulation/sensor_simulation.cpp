@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/sensors/simulation.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 #include <limits>
 

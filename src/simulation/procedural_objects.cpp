@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/geometry/procedural_objects.hpp"
+#include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/ros/semap_bridge.hpp"
+#include "scene_graph_tracker/semap/bridge.hpp"
 
 #include <functional>
 

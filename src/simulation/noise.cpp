@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/sensors/noise.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
 
 #include <random>
 

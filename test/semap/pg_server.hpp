@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "scene_graph_tracker/ros/semap_db.hpp"
+#include "scene_graph_tracker/semap/db.hpp"
 
 namespace sgt::test {
 

@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/ros/scenario_bag.hpp"
+#include "scene_graph_tracker/simulation/scenario_bag.hpp"
 
 #include <geometry_msgs/PoseStamped.h>
 #include <rosbag/bag.h>

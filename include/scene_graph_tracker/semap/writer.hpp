@@ -13,7 +13,7 @@
 #include <mutex>
 #include <thread>
 
-#include "scene_graph_tracker/ros/semap_db.hpp"
+#include "scene_graph_tracker/semap/db.hpp"
 
 namespace sgt::semap {
 

@@ -11,7 +11,7 @@
 
 #include "pg_server.hpp"
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
-#include "scene_graph_tracker/ros/semap_db.hpp"
+#include "scene_graph_tracker/semap/db.hpp"
 
 namespace sgt {
 namespace {

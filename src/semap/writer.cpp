@@ -1,4 +1,4 @@
-#include "scene_graph_tracker/ros/semap_writer.hpp"
+#include "scene_graph_tracker/semap/writer.hpp"
 
 #include <ros/console.h>
 #include <ros/init.h>

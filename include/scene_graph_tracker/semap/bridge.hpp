@@ -4,7 +4,7 @@
 // Subscribes: scene_graph (SceneGraph; world poses by composing each node's parent chain), or
 // tracked_objects (TrackedObjectArray, poses in the header frame) with ~source: tracked_objects.
 // Writes: object classes (box, hull), instances, pose history, relation intervals, through a
-// bounded queue in a writer thread (semap_writer.hpp): the node keeps running while the
+// bounded queue in a writer thread (semap/writer.hpp): the node keeps running while the
 // database is down and writes the backlog when it is back.
 // Services (answered by SQL on the database; success false + message when it is unreachable):
 //   ~query_relations, ~objects_on, ~objects_in, ~directional_relations, ~where_was, ~relation_since
@@ -25,7 +25,7 @@
 #include <memory>
 #include <mutex>
 
-#include "scene_graph_tracker/ros/semap_writer.hpp"
+#include "scene_graph_tracker/semap/writer.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 
 namespace sgt::ros {

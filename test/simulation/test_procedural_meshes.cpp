@@ -2,10 +2,10 @@
 // the real objects' extents and (when asked) triangle counts, primitives are closed and outward.
 #include <gtest/gtest.h>
 
-#include "scene_graph_tracker/geometry/building.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/geometry/procedural_objects.hpp"
+#include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 namespace sgt {
 namespace {

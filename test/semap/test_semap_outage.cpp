@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "pg_server.hpp"
-#include "scene_graph_tracker/ros/semap_writer.hpp"
+#include "scene_graph_tracker/semap/writer.hpp"
 
 namespace sgt {
 namespace {

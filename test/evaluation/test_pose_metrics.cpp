@@ -5,7 +5,7 @@
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/geometry/procedural_objects.hpp"
+#include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 namespace sgt {
 namespace {

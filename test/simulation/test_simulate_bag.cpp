@@ -18,7 +18,7 @@
 #include <map>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
-#include "scene_graph_tracker/ros/scenario_bag.hpp"
+#include "scene_graph_tracker/simulation/scenario_bag.hpp"
 #include "support.hpp"
 
 namespace sgt::ros {
