@@ -11,8 +11,8 @@
 
 #include "paper_scene.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
-#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::bench {
 namespace {
@@ -25,13 +25,16 @@ void BM_DetectFrame(benchmark::State& state) {
   const SimulatedScan scan = simulate(*s.scene, s.camera_rays, s.T_world_camera);
   std::vector<std::uint8_t> pixels = sim::renderRgb(scan, s.T_world_camera, colours);
   const cv::Mat rgb(s.camera.height, s.camera.width, CV_8UC3, pixels.data());
-  const ObjectCatalog catalog = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
-  detection::PoseDetector detector(std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml", catalog);
+  const ObjectCatalog catalog =
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  detection::PoseDetector detector(std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml",
+                                   catalog);
   std::size_t detections = 0, poses = 0;
   for (auto _ : state) {
     const auto d = detector.detect(rgb, s.camera);
     detections = d.size();
-    poses = static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](const auto& x) { return x.pnp.ok(); }));
+    poses = static_cast<std::size_t>(
+        std::count_if(d.begin(), d.end(), [](const auto& x) { return x.pnp.ok(); }));
     benchmark::DoNotOptimize(d.data());
   }
   state.counters["detections"] = static_cast<double>(detections);

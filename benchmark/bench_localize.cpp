@@ -21,7 +21,8 @@ namespace {
 Eigen::Isometry3d offset(double x, double y, double yaw_deg) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(x, y, 0.0);
-  T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.linear() =
+      Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return T;
 }
 
@@ -29,15 +30,20 @@ void BM_LocalizeScan(benchmark::State& state) {
   static PaperScene s = makePaperScene();
   auto rays = std::make_shared<SensorRays>(s.lidar_rays);
   const Eigen::Isometry3d T_base_lidar = s.T_world_base.inverse() * s.T_world_lidar;
-  const Eigen::Isometry3d prior = s.T_world_base * offset(0.3 * std::cos(0.7), 0.3 * std::sin(0.7), 5.0);
+  const Eigen::Isometry3d prior =
+      s.T_world_base * offset(0.3 * std::cos(0.7), 0.3 * std::sin(0.7), 5.0);
   RangeMeasurements scan =
-      fromRanges(SpinningLidarModel::vlp16(), rays, simulate(*s.scene, *rays, s.T_world_lidar).range, prior * T_base_lidar);
+      fromRanges(SpinningLidarModel::vlp16(), rays,
+                 simulate(*s.scene, *rays, s.T_world_lidar).range, prior * T_base_lidar);
   addRangeNoise(scan, 0.01, 4);
   const Localizer localizer;
   LocalizeResult r;
   for (auto _ : state) r = localizer.localize(*s.scene, {scan}, prior);
-  state.counters["err_mm"] = (r.T_map_base.translation() - s.T_world_base.translation()).norm() * 1000.0;
-  state.counters["err_deg"] = Eigen::AngleAxisd(r.T_map_base.linear() * s.T_world_base.linear().transpose()).angle() * 180.0 / M_PI;
+  state.counters["err_mm"] =
+      (r.T_map_base.translation() - s.T_world_base.translation()).norm() * 1000.0;
+  state.counters["err_deg"] =
+      Eigen::AngleAxisd(r.T_map_base.linear() * s.T_world_base.linear().transpose()).angle() *
+      180.0 / M_PI;
   state.counters["rays_cast"] = static_cast<double>(r.rays_cast);
   state.counters["ok"] = r.status == LocalizeStatus::kOk;
 }
@@ -54,9 +60,10 @@ void BM_Presegment(benchmark::State& state) {
     s.scene->addInstance(node, s.scene->addMesh(std::make_shared<TriangleMesh>(mesh)), T);
     unknown.push_back(node);
   };
-  add(makeCylinder(0.25f, 1.75f, 48), {top.x() + 1.1, top.y() + 0.3, 0.875});          // a person
-  add(makeBox({0.12f, 0.1f, 0.15f}), top + Eigen::Vector3d(-0.05, -0.2, 0.075));         // a box on the bench
-  add(makeBox({0.5f, 0.4f, 0.45f}), {top.x() - 1.3, top.y() + 1.5, 0.225});              // boxes on the floor
+  add(makeCylinder(0.25f, 1.75f, 48), {top.x() + 1.1, top.y() + 0.3, 0.875});  // a person
+  add(makeBox({0.12f, 0.1f, 0.15f}),
+      top + Eigen::Vector3d(-0.05, -0.2, 0.075));                            // a box on the bench
+  add(makeBox({0.5f, 0.4f, 0.45f}), {top.x() - 1.3, top.y() + 1.5, 0.225});  // boxes on the floor
   add(makeBox({0.4f, 0.4f, 0.8f}), {top.x() + 0.9, top.y() + 2.6, 0.4});
   s.scene->commit();
   auto cam_rays = std::make_shared<SensorRays>(s.camera_rays);
@@ -66,9 +73,11 @@ void BM_Presegment(benchmark::State& state) {
   std::vector<RangeMeasurements> frame;
   frame.push_back(fromDepthImage(s.camera, cam_rays, depthImage(cam, *cam_rays), s.T_world_camera));
   addDepthNoise(frame.back(), 0.0015, 1);
-  frame.push_back(fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar.range, s.T_world_lidar));
+  frame.push_back(
+      fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar.range, s.T_world_lidar));
   addRangeNoise(frame.back(), 0.01, 2);
-  for (const NodeId n : unknown) s.scene->setInstanceEnabled(n, false);  // the tracker does not know them
+  for (const NodeId n : unknown)
+    s.scene->setInstanceEnabled(n, false);  // the tracker does not know them
   s.scene->commit();
 
   std::vector<Presegmentation> result(2);

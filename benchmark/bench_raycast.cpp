@@ -61,11 +61,12 @@ struct RawScene {
   }
   void add(const TriangleMesh& m, const Eigen::Isometry3f& T, RTCBuildQuality q) {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, m.vertices.size()));
-    for (std::size_t i = 0; i < m.vertices.size(); ++i) Eigen::Map<Eigen::Vector3f>(v + 3 * i) = T * m.vertices[i];
-    auto* idx = static_cast<std::uint32_t*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, m.triangles.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, m.vertices.size()));
+    for (std::size_t i = 0; i < m.vertices.size(); ++i)
+      Eigen::Map<Eigen::Vector3f>(v + 3 * i) = T * m.vertices[i];
+    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, m.triangles.size()));
     std::memcpy(idx, m.triangles.data(), m.triangles.size() * 12);
     rtcSetGeometryBuildQuality(g, q);
     rtcCommitGeometry(g);
@@ -74,41 +75,42 @@ struct RawScene {
   }
 };
 
-void rawCast(RTCScene scene, const SensorRays& rays, const Eigen::Isometry3d& T, std::vector<float>& range,
-             std::vector<unsigned>& geom) {
+void rawCast(RTCScene scene, const SensorRays& rays, const Eigen::Isometry3d& T,
+             std::vector<float>& range, std::vector<unsigned>& geom) {
   range.resize(rays.size());
   geom.resize(rays.size());
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f o = T.translation().cast<float>();
   const int tiles_x = (rays.width + 3) / 4, tiles_y = (rays.height + 3) / 4;
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 16), [&](const tbb::blocked_range<int>& r) {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(64) int valid[16];
-    RTCRayHit16 rh;
-    for (int t = r.begin(); t != r.end(); ++t) {
-      const int x0 = (t % tiles_x) * 4, y0 = (t / tiles_x) * 4;
-      for (int k = 0; k < 16; ++k) {
-        const int x = x0 + (k & 3), y = y0 + (k >> 2);
-        valid[k] = (x < rays.width && y < rays.height) ? -1 : 0;
-        if (!valid[k]) continue;
-        const Eigen::Vector3f d = R * rays.directions[y * rays.width + x];
-        rh.ray.org_x[k] = o.x(), rh.ray.org_y[k] = o.y(), rh.ray.org_z[k] = o.z();
-        rh.ray.dir_x[k] = d.x(), rh.ray.dir_y[k] = d.y(), rh.ray.dir_z[k] = d.z();
-        rh.ray.tnear[k] = rays.range_min, rh.ray.tfar[k] = rays.range_max;
-        rh.ray.time[k] = 0, rh.ray.mask[k] = ~0u, rh.ray.flags[k] = 0;
-        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      }
-      rtcIntersect16(valid, scene, &ctx, &rh);
-      for (int k = 0; k < 16; ++k) {
-        if (!valid[k]) continue;
-        const std::size_t i = (y0 + (k >> 2)) * rays.width + x0 + (k & 3);
-        range[i] = rh.ray.tfar[k];
-        geom[i] = rh.hit.geomID[k];
-      }
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 16),
+                    [&](const tbb::blocked_range<int>& r) {
+                      RTCIntersectContext ctx;
+                      rtcInitIntersectContext(&ctx);
+                      ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                      alignas(64) int valid[16];
+                      RTCRayHit16 rh;
+                      for (int t = r.begin(); t != r.end(); ++t) {
+                        const int x0 = (t % tiles_x) * 4, y0 = (t / tiles_x) * 4;
+                        for (int k = 0; k < 16; ++k) {
+                          const int x = x0 + (k & 3), y = y0 + (k >> 2);
+                          valid[k] = (x < rays.width && y < rays.height) ? -1 : 0;
+                          if (!valid[k]) continue;
+                          const Eigen::Vector3f d = R * rays.directions[y * rays.width + x];
+                          rh.ray.org_x[k] = o.x(), rh.ray.org_y[k] = o.y(), rh.ray.org_z[k] = o.z();
+                          rh.ray.dir_x[k] = d.x(), rh.ray.dir_y[k] = d.y(), rh.ray.dir_z[k] = d.z();
+                          rh.ray.tnear[k] = rays.range_min, rh.ray.tfar[k] = rays.range_max;
+                          rh.ray.time[k] = 0, rh.ray.mask[k] = ~0u, rh.ray.flags[k] = 0;
+                          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                        }
+                        rtcIntersect16(valid, scene, &ctx, &rh);
+                        for (int k = 0; k < 16; ++k) {
+                          if (!valid[k]) continue;
+                          const std::size_t i = (y0 + (k >> 2)) * rays.width + x0 + (k & 3);
+                          range[i] = rh.ray.tfar[k];
+                          geom[i] = rh.hit.geomID[k];
+                        }
+                      }
+                    });
 }
 
 void BM_PaperFrameRaw(benchmark::State& state) {
@@ -163,7 +165,13 @@ void BM_InstanceScaling(benchmark::State& state) {
   state.counters["camera_rays_on_objects"] = static_cast<double>(on_objects);
   setCounters(state, s.camera_rays.size() + s.lidar_rays.size());
 }
-BENCHMARK(BM_InstanceScaling)->Arg(10)->Arg(100)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InstanceScaling)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace sgt::bench

@@ -6,12 +6,11 @@
 // BM_PclIcpFrame / BM_PclIcpPointToPointFrame: the PCL ICP baseline on the same frames (see
 // pcl_icp_baseline.hpp), point-to-plane and point-to-point.
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <map>
 #include <random>
-
-#include <tbb/global_control.h>
 
 #include "paper_scene.hpp"
 #include "pcl_icp_baseline.hpp"
@@ -47,7 +46,8 @@ void placeOccluder(PaperScene& s, NodeId board, const SensorRays& camera_rays, d
   TriangleMesh b = makeBox({1.6f, 0.01f, 1.0f});
   b.transform(Eigen::Isometry3f(Eigen::Translation3f(0, 0, -0.5f)));  // origin at the top edge
   const double all = static_cast<double>(objectPixels(s, camera_rays));
-  s.scene->addInstance(board, s.scene->addMesh(std::make_shared<TriangleMesh>(b)), Eigen::Isometry3d::Identity());
+  s.scene->addInstance(board, s.scene->addMesh(std::make_shared<TriangleMesh>(b)),
+                       Eigen::Isometry3d::Identity());
   double lo = -0.3, hi = 0.4;  // top edge relative to the bench top
   for (int i = 0; i < 14; ++i) {
     const double mid = 0.5 * (lo + hi);
@@ -68,10 +68,12 @@ Frame makeFrame(int occlusion_percent) {
   const NodeId board = 999;
   if (occlusion_percent > 0) placeOccluder(s, board, *camera_rays, occlusion_percent / 100.0);
   const SimulatedScan cam = simulate(*s.scene, *camera_rays, s.T_world_camera);
-  f.measurements.push_back(fromDepthImage(s.camera, camera_rays, depthImage(cam, *camera_rays), s.T_world_camera));
+  f.measurements.push_back(
+      fromDepthImage(s.camera, camera_rays, depthImage(cam, *camera_rays), s.T_world_camera));
   addDepthNoise(f.measurements.back(), 0.0015, 1);
   const SimulatedScan lidar = simulate(*s.scene, *lidar_rays, s.T_world_lidar);
-  f.measurements.push_back(fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar.range, s.T_world_lidar));
+  f.measurements.push_back(
+      fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar.range, s.T_world_lidar));
   addRangeNoise(f.measurements.back(), 0.01, 2);
   if (s.scene->hasInstance(board)) s.scene->removeInstance(board);
   s.scene->commit();
@@ -80,15 +82,18 @@ Frame makeFrame(int occlusion_percent) {
   for (const auto& o : s.objects) {
     Eigen::Isometry3d T = o.T_world_object;
     T.translation() += Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * 0.03;
-    T.linear() = Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized())
-                     .toRotationMatrix() * T.linear();
+    T.linear() =
+        Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized())
+            .toRotationMatrix() *
+        T.linear();
     f.initial.push_back(T);
     f.samples.push_back(sampleSurface(*s.object_meshes[o.mesh - 1], 1000, 5).points);
   }
   return f;
 }
 
-double addS(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& est, const Eigen::Isometry3d& truth) {
+double addS(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& est,
+            const Eigen::Isometry3d& truth) {
   const Eigen::Isometry3f E = est.cast<float>(), T = truth.cast<float>();
   std::vector<Eigen::Vector3f> true_pts;
   for (const auto& p : pts) true_pts.push_back(T * p);
@@ -106,7 +111,8 @@ double addS(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& es
 Frame& frame(int occlusion_percent) {
   static std::map<int, Frame> frames;
   auto it = frames.find(occlusion_percent);
-  if (it == frames.end()) it = frames.emplace(occlusion_percent, makeFrame(occlusion_percent)).first;
+  if (it == frames.end())
+    it = frames.emplace(occlusion_percent, makeFrame(occlusion_percent)).first;
   return it->second;
 }
 
@@ -125,7 +131,8 @@ void BM_RefineFrame(benchmark::State& state) {
   RefineResult result;
   for (auto _ : state) {
     state.PauseTiming();
-    for (std::size_t k = 0; k < targets.size(); ++k) f.s.scene->setInstancePose(targets[k].node, f.initial[k]);
+    for (std::size_t k = 0; k < targets.size(); ++k)
+      f.s.scene->setInstancePose(targets[k].node, f.initial[k]);
     f.s.scene->commit();
     state.ResumeTiming();
     result = refiner.refine(*f.s.scene, targets, f.measurements);
@@ -146,14 +153,17 @@ void BM_RefineObjectOneCore(benchmark::State& state) {
   const ObjectRefiner refiner;
   for (auto _ : state) {
     state.PauseTiming();
-    for (std::size_t k = 0; k < f.s.objects.size(); ++k) f.s.scene->setInstancePose(f.s.objects[k].node, f.initial[k]);
+    for (std::size_t k = 0; k < f.s.objects.size(); ++k)
+      f.s.scene->setInstancePose(f.s.objects[k].node, f.initial[k]);
     f.s.scene->commit();
     state.ResumeTiming();
-    for (const auto& o : f.s.objects) benchmark::DoNotOptimize(refiner.refine(*f.s.scene, {{o.node, nullptr}}, f.measurements));
+    for (const auto& o : f.s.objects)
+      benchmark::DoNotOptimize(refiner.refine(*f.s.scene, {{o.node, nullptr}}, f.measurements));
   }
   // Seconds per object (Google Benchmark prints e.g. "7.3m" for 7.3 ms).
-  state.counters["s_per_object"] = benchmark::Counter(static_cast<double>(state.iterations() * f.s.objects.size()),
-                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["s_per_object"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * f.s.objects.size()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_RefineObjectOneCore)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -164,7 +174,8 @@ std::vector<Eigen::Vector3f> worldPoints(const std::vector<RangeMeasurements>& m
     const Eigen::Isometry3f T = m.T_world_sensor.cast<float>();
     for (std::size_t i = 0; i < m.size(); ++i) {
       if (!m.valid(i)) continue;
-      const Eigen::Vector3f o = m.rays->origins.empty() ? Eigen::Vector3f::Zero() : m.rays->origins[i];
+      const Eigen::Vector3f o =
+          m.rays->origins.empty() ? Eigen::Vector3f::Zero() : m.rays->origins[i];
       out.push_back(T * (o + m.pointInSensor(i)));
     }
   }
@@ -208,7 +219,12 @@ void pclIcpFrame(benchmark::State& state, bool point_to_plane, double max_dist) 
 void BM_PclIcpFrame(benchmark::State& state) { pclIcpFrame(state, true, 0.010); }  // point-to-plane
 void BM_PclIcpPointToPointFrame(benchmark::State& state) { pclIcpFrame(state, false, 0.015); }
 BENCHMARK(BM_PclIcpFrame)->Arg(0)->Arg(30)->Arg(60)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_PclIcpPointToPointFrame)->Arg(0)->Arg(30)->Arg(60)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PclIcpPointToPointFrame)
+    ->Arg(0)
+    ->Arg(30)
+    ->Arg(60)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace sgt::bench

@@ -10,8 +10,9 @@ namespace {
 
 std::string pbrMeshDir() {
   const char* env = std::getenv("SGT_PBR_OBJECTS");
-  const std::filesystem::path dir = env ? std::filesystem::path(env)
-                                        : std::filesystem::path(SGT_SOURCE_DIR) / ".." / "shared" / "data" / "pbr_objects";
+  const std::filesystem::path dir =
+      env ? std::filesystem::path(env)
+          : std::filesystem::path(SGT_SOURCE_DIR) / ".." / "shared" / "data" / "pbr_objects";
   return std::filesystem::is_directory(dir / "meshes") ? (dir / "meshes").string() : "";
 }
 
@@ -64,7 +65,8 @@ PaperScene makePaperScene(int extra_instances) {
     for (float x = 1.0f; placed < extra_instances && x < 59.0f; x += 0.35f) {
       if (bench_room.contains(Eigen::Vector3f(x, y, 1.0f))) continue;
       const MeshId mesh = s.objects[placed % 5].mesh;
-      s.scene->addInstance(next++, mesh, pose(Eigen::Vector3d(x, y, 0.2 + 0.3 * (placed % 7)), 0.1 * placed));
+      s.scene->addInstance(next++, mesh,
+                           pose(Eigen::Vector3d(x, y, 0.2 + 0.3 * (placed % 7)), 0.1 * placed));
       ++placed;
     }
 
@@ -81,6 +83,8 @@ PaperScene makePaperScene(int extra_instances) {
   return s;
 }
 
-std::string meshLabel(const PaperScene& s) { return s.real_meshes ? "pbr_objects meshes" : "stand-in meshes"; }
+std::string meshLabel(const PaperScene& s) {
+  return s.real_meshes ? "pbr_objects meshes" : "stand-in meshes";
+}
 
 }  // namespace sgt::bench

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 
 namespace sgt::bench {
 

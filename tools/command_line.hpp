@@ -12,7 +12,8 @@ namespace sgt::cli {
 
 class Flags {
  public:
-  Flags(std::string tool, std::string synopsis) : tool_(std::move(tool)), synopsis_(std::move(synopsis)) {}
+  Flags(std::string tool, std::string synopsis)
+      : tool_(std::move(tool)), synopsis_(std::move(synopsis)) {}
 
   [[noreturn]] void fail(const std::string& error) const {
     std::cerr << tool_ << ": " << error << "\nusage: " << tool_ << " " << synopsis_ << "\n";
@@ -22,7 +23,8 @@ class Flags {
   // Calls `on(flag, value)` for each argument; `value()` takes the argument after the flag.
   // `on` returns false for a flag it does not know.
   void parse(int argc, char** argv,
-             const std::function<bool(const std::string& flag, const std::function<std::string()>& value)>& on) const {
+             const std::function<bool(const std::string& flag,
+                                      const std::function<std::string()>& value)>& on) const {
     for (int i = 1; i < argc; ++i) {
       const std::string flag = argv[i];
       const std::function<std::string()> value = [&]() -> std::string {

@@ -11,7 +11,8 @@
 // tracker needs without making the rest trustworthy). --write-thresholds puts the suggestions
 // into the model's metadata YAML.
 //   rosrun scene_graph_tracker evaluate_detector --dataset DIR --model MODEL.yaml --output OUT
-//       [--catalog objects.yaml] [--limit N] [--debug-images K] [--write-thresholds] [--threshold-beta B]
+//       [--catalog objects.yaml] [--limit N] [--debug-images K] [--write-thresholds]
+//       [--threshold-beta B]
 // Writes OUT/report.json and OUT/debug_*.png (the first K frames with drawn detections).
 #include <yaml-cpp/yaml.h>
 
@@ -37,7 +38,8 @@ using namespace sgt;
 namespace {
 
 struct Args {
-  std::string dataset, model, output, catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  std::string dataset, model, output,
+      catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
   std::size_t limit = 0;
   int debug_images = 8;
   bool write_thresholds = false;
@@ -46,22 +48,33 @@ struct Args {
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate_detector",
-                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--limit N] [--debug-images K] "
+                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] "
+                              "[--limit N] [--debug-images K] "
                               "[--write-thresholds] [--threshold-beta B]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
-    if (k == "--dataset") a.dataset = value();
-    else if (k == "--model") a.model = value();
-    else if (k == "--output") a.output = value();
-    else if (k == "--catalog") a.catalog = value();
-    else if (k == "--limit") a.limit = std::stoul(value());
-    else if (k == "--debug-images") a.debug_images = std::stoi(value());
-    else if (k == "--write-thresholds") a.write_thresholds = true;
-    else if (k == "--threshold-beta") a.threshold_beta = std::stod(value());
-    else return false;
+    if (k == "--dataset")
+      a.dataset = value();
+    else if (k == "--model")
+      a.model = value();
+    else if (k == "--output")
+      a.output = value();
+    else if (k == "--catalog")
+      a.catalog = value();
+    else if (k == "--limit")
+      a.limit = std::stoul(value());
+    else if (k == "--debug-images")
+      a.debug_images = std::stoi(value());
+    else if (k == "--write-thresholds")
+      a.write_thresholds = true;
+    else if (k == "--threshold-beta")
+      a.threshold_beta = std::stod(value());
+    else
+      return false;
     return true;
   });
-  if (a.dataset.empty() || a.model.empty() || a.output.empty()) flags.fail("--dataset, --model and --output are required");
+  if (a.dataset.empty() || a.model.empty() || a.output.empty())
+    flags.fail("--dataset, --model and --output are required");
   if (!(a.threshold_beta > 0.0)) flags.fail("--threshold-beta must be positive");
   return a;
 }
@@ -81,24 +94,29 @@ Eigen::Isometry3d matrix(const YAML::Node& m) {
 }
 
 // poses/NAME.json and labels/NAME.txt list the same objects in the same order.
-std::vector<TruthObject> readTruth(const fs::path& dir, const std::string& name, PinholeModel& camera) {
+std::vector<TruthObject> readTruth(const fs::path& dir, const std::string& name,
+                                   PinholeModel& camera) {
   const YAML::Node j = YAML::LoadFile((dir / "poses" / (name + ".json")).string());
   camera.width = j["width"].as<int>(), camera.height = j["height"].as<int>();
   camera.fx = j["K"][0].as<double>(), camera.cx = j["K"][2].as<double>();
   camera.fy = j["K"][4].as<double>(), camera.cy = j["K"][5].as<double>();
   std::vector<TruthObject> out;
-  for (const auto& o : j["objects"]) out.push_back({o["class"].as<std::string>(), matrix(o["T_camera_object"]), {}, {}, {}});
+  for (const auto& o : j["objects"])
+    out.push_back({o["class"].as<std::string>(), matrix(o["T_camera_object"]), {}, {}, {}});
   std::ifstream labels(dir / "labels" / (name + ".txt"));
   const double W = camera.width, H = camera.height;
   for (TruthObject& t : out) {
     double cls, cx, cy, w, h;
-    if (!(labels >> cls >> cx >> cy >> w >> h)) throw std::runtime_error("labels/" + name + ".txt: fewer lines than objects");
+    if (!(labels >> cls >> cx >> cy >> w >> h))
+      throw std::runtime_error("labels/" + name + ".txt: fewer lines than objects");
     t.box_min = Eigen::Vector2d((cx - w / 2) * W - 0.5, (cy - h / 2) * H - 0.5);
     t.box_max = Eigen::Vector2d((cx + w / 2) * W - 0.5, (cy + h / 2) * H - 0.5);
     for (int k = 0; k < detection::kCuboidKeypoints; ++k) {
       double x, y, v;
       labels >> x >> y >> v;
-      t.keypoints.push_back(v > 0 ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(x * W - 0.5, y * H - 0.5)) : std::nullopt);
+      t.keypoints.push_back(
+          v > 0 ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(x * W - 0.5, y * H - 0.5))
+                : std::nullopt);
     }
   }
   return out;
@@ -118,7 +136,8 @@ double mean(const std::vector<double>& v) {
 struct ClassStats {
   std::size_t truths = 0, detections = 0, matched = 0, pnp_ok = 0;
   std::vector<double> kp_px, t_mm, r_deg, adds_mm, r_box_deg;
-  std::vector<std::pair<float, bool>> scores;  // each detection's score and whether it matched a truth
+  std::vector<std::pair<float, bool>>
+      scores;  // each detection's score and whether it matched a truth
 };
 
 // Precision and recall of the detections scoring at least t. Matching is greedy by score, so a
@@ -153,15 +172,18 @@ const ScorePoint& bestF(const std::vector<ScorePoint>& curve, double beta) {
 constexpr double kReliablePrecision = 0.7;
 
 // Replaces the metadata's score_thresholds line (and its comment) with `line`.
-void writeThresholds(const std::string& yaml_path, const std::string& line, const std::string& rule) {
+void writeThresholds(const std::string& yaml_path, const std::string& line,
+                     const std::string& rule) {
   std::ifstream in(yaml_path);
   std::ostringstream kept;
   for (std::string l; std::getline(in, l);)
-    if (l.rfind("score_thresholds:", 0) != 0 && l.rfind("# score_thresholds", 0) != 0) kept << l << "\n";
-  std::ofstream(yaml_path) << kept.str()
-                           << "# score_thresholds: per class, suggested by evaluate_detector on held-out renders (best "
-                           << rule << " where precision >= " << kReliablePrecision << ")\n"
-                           << line << "\n";
+    if (l.rfind("score_thresholds:", 0) != 0 && l.rfind("# score_thresholds", 0) != 0)
+      kept << l << "\n";
+  std::ofstream(yaml_path)
+      << kept.str()
+      << "# score_thresholds: per class, suggested by evaluate_detector on held-out renders (best "
+      << rule << " where precision >= " << kReliablePrecision << ")\n"
+      << line << "\n";
 }
 
 }  // namespace
@@ -187,15 +209,18 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < names.size(); ++i) {
       PinholeModel camera;
       const auto truth = readTruth(args.dataset, names[i], camera);
-      cv::Mat bgr = cv::imread((fs::path(args.dataset) / "images" / (names[i] + ".png")).string(), cv::IMREAD_COLOR);
+      cv::Mat bgr = cv::imread((fs::path(args.dataset) / "images" / (names[i] + ".png")).string(),
+                               cv::IMREAD_COLOR);
       if (bgr.empty()) throw std::runtime_error("cannot read image " + names[i]);
       cv::Mat rgb;
       cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
       const auto t0 = std::chrono::steady_clock::now();
       const auto dets = detector.detect(rgb, camera);
-      infer_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      infer_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       for (const auto& t : truth) ++per[t.class_name].truths;
-      // Greedy matching by score: each detection to the unmatched truth of its class with the best IoU >= 0.5.
+      // Greedy matching by score: each detection to the unmatched truth of its class with the best
+      // IoU >= 0.5.
       std::vector<char> used(truth.size(), 0);
       for (const auto& d : dets) {
         ClassStats& s = per[d.detection.class_name];
@@ -213,17 +238,23 @@ int main(int argc, char** argv) {
         if (best == truth.size()) continue;
         used[best] = 1;
         ++s.matched;
-        for (std::size_t k = 0; k < truth[best].keypoints.size() && k < d.detection.keypoints.size(); ++k)
-          if (truth[best].keypoints[k]) s.kp_px.push_back((d.detection.keypoints[k].px - *truth[best].keypoints[k]).norm());
+        for (std::size_t k = 0;
+             k < truth[best].keypoints.size() && k < d.detection.keypoints.size(); ++k)
+          if (truth[best].keypoints[k])
+            s.kp_px.push_back((d.detection.keypoints[k].px - *truth[best].keypoints[k]).norm());
         if (d.pnp.ok() && catalog.contains(d.detection.class_name)) {
           ++s.pnp_ok;
-          const PoseErrors e = score(d.detection.class_name, d.pnp.T_camera_object, truth[best].T_camera_object);
-          s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg), s.adds_mm.push_back(e.add_s * 1000);
-          double r_box = e.rotation_deg;  // up to a half turn of the box (all cuboid labels can tell)
+          const PoseErrors e =
+              score(d.detection.class_name, d.pnp.T_camera_object, truth[best].T_camera_object);
+          s.t_mm.push_back(e.translation * 1000), s.r_deg.push_back(e.rotation_deg),
+              s.adds_mm.push_back(e.add_s * 1000);
+          double r_box =
+              e.rotation_deg;  // up to a half turn of the box (all cuboid labels can tell)
           for (const Eigen::Isometry3d& B : detection::boxHalfTurns())
-            r_box = std::min(r_box, symmetricRotationErrorDeg(catalog.get(d.detection.class_name).symmetry,
-                                                              (d.pnp.T_camera_object * B).linear(),
-                                                              truth[best].T_camera_object.linear()));
+            r_box = std::min(r_box,
+                             symmetricRotationErrorDeg(catalog.get(d.detection.class_name).symmetry,
+                                                       (d.pnp.T_camera_object * B).linear(),
+                                                       truth[best].T_camera_object.linear()));
           s.r_box_deg.push_back(r_box);
         }
       }
@@ -238,44 +269,59 @@ int main(int argc, char** argv) {
 
     ClassStats all;
     for (const auto& [c, s] : per) {
-      all.truths += s.truths, all.detections += s.detections, all.matched += s.matched, all.pnp_ok += s.pnp_ok;
-      for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg, &ClassStats::adds_mm, &ClassStats::r_box_deg})
+      all.truths += s.truths, all.detections += s.detections, all.matched += s.matched,
+          all.pnp_ok += s.pnp_ok;
+      for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg,
+                     &ClassStats::adds_mm, &ClassStats::r_box_deg})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
     }
-    const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
+    const auto ratio = [](std::size_t a, std::size_t b) {
+      return b ? static_cast<double>(a) / b : NAN;
+    };
     const auto num = [](double x) {
       std::ostringstream o;
-      if (std::isfinite(x)) o << std::setprecision(4) << x; else o << "null";
+      if (std::isfinite(x))
+        o << std::setprecision(4) << x;
+      else
+        o << "null";
       return o.str();
     };
     const auto stats_json = [&](const ClassStats& s, const std::string& indent) {
       std::ostringstream o;
-      o << indent << "\"truths\": " << s.truths << ", \"detections\": " << s.detections << ", \"matched\": " << s.matched
-        << ",\n" << indent << "\"precision\": " << num(ratio(s.matched, s.detections))
+      o << indent << "\"truths\": " << s.truths << ", \"detections\": " << s.detections
+        << ", \"matched\": " << s.matched << ",\n"
+        << indent << "\"precision\": " << num(ratio(s.matched, s.detections))
         << ", \"recall\": " << num(ratio(s.matched, s.truths)) << ",\n"
-        << indent << "\"keypoint_error_px_mean\": " << num(mean(s.kp_px)) << ", \"keypoint_error_px_median\": "
-        << num(median(s.kp_px)) << ",\n"
-        << indent << "\"pnp_ok\": " << s.pnp_ok << ", \"pnp_translation_error_mm_median\": " << num(median(s.t_mm))
-        << ", \"pnp_rotation_error_deg_median\": " << num(median(s.r_deg)) << ", \"pnp_add_s_mm_median\": "
-        << num(median(s.adds_mm)) << ",\n" << indent << "\"pnp_rotation_error_up_to_box_turns_deg_median\": " << num(median(s.r_box_deg));
+        << indent << "\"keypoint_error_px_mean\": " << num(mean(s.kp_px))
+        << ", \"keypoint_error_px_median\": " << num(median(s.kp_px)) << ",\n"
+        << indent << "\"pnp_ok\": " << s.pnp_ok
+        << ", \"pnp_translation_error_mm_median\": " << num(median(s.t_mm))
+        << ", \"pnp_rotation_error_deg_median\": " << num(median(s.r_deg))
+        << ", \"pnp_add_s_mm_median\": " << num(median(s.adds_mm)) << ",\n"
+        << indent
+        << "\"pnp_rotation_error_up_to_box_turns_deg_median\": " << num(median(s.r_box_deg));
       return o.str();
     };
     std::map<std::string, std::vector<ScorePoint>> curves;
     for (const auto& [c, s] : per) curves[c] = scoreCurve(s);
     std::ostringstream j;
     j << "{\n  \"frames\": " << names.size() << ",\n  \"model\": \"" << args.model << "\",\n"
-      << "  \"inference_ms_median\": " << num(median(infer_ms)) << ",\n  \"threshold_beta\": " << num(args.threshold_beta)
-      << ",\n  \"all\": {\n" << stats_json(all, "    ")
-      << "\n  },\n  \"per_class\": {";
+      << "  \"inference_ms_median\": " << num(median(infer_ms))
+      << ",\n  \"threshold_beta\": " << num(args.threshold_beta) << ",\n  \"all\": {\n"
+      << stats_json(all, "    ") << "\n  },\n  \"per_class\": {";
     bool first = true;
     for (const auto& [c, s] : per) {
       const auto& curve = curves.at(c);
       const ScorePoint& best = bestF(curve, args.threshold_beta);
-      j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n" << stats_json(s, "      ")
-        << ",\n      \"best_f1_score_threshold\": " << bestF(curve, 1.0).threshold << ", \"suggested_score_threshold\": "
-        << (best.precision >= kReliablePrecision ? num(best.threshold) : "null") << ",\n      \"score_curve\": [";
+      j << (first ? "\n" : ",\n") << "    \"" << c << "\": {\n"
+        << stats_json(s, "      ")
+        << ",\n      \"best_f1_score_threshold\": " << bestF(curve, 1.0).threshold
+        << ", \"suggested_score_threshold\": "
+        << (best.precision >= kReliablePrecision ? num(best.threshold) : "null")
+        << ",\n      \"score_curve\": [";
       for (std::size_t i = 0; i < curve.size(); ++i)
-        j << (i ? ", " : "") << "{\"threshold\": " << curve[i].threshold << ", \"precision\": " << num(curve[i].precision)
+        j << (i ? ", " : "") << "{\"threshold\": " << curve[i].threshold
+          << ", \"precision\": " << num(curve[i].precision)
           << ", \"recall\": " << num(curve[i].recall) << "}";
       j << "]\n    }";
       first = false;
@@ -283,34 +329,39 @@ int main(int argc, char** argv) {
     j << "\n  }\n}\n";
     std::ofstream(fs::path(args.output) / "report.json") << j.str();
 
-    std::cout << "\n| class | truths | precision | recall | keypoint px (median) | PnP ok | PnP t mm (median) | R deg | ADD-S mm |\n"
+    std::cout << "\n| class | truths | precision | recall | keypoint px (median) | PnP ok | PnP t "
+                 "mm (median) | R deg | ADD-S mm |\n"
               << "|---|---|---|---|---|---|---|---|---|\n";
     const auto row = [&](const std::string& name, const ClassStats& s) {
-      std::cout << "| " << name << " | " << s.truths << " | " << num(ratio(s.matched, s.detections)) << " | "
-                << num(ratio(s.matched, s.truths)) << " | " << num(median(s.kp_px)) << " | " << s.pnp_ok << " | "
-                << num(median(s.t_mm)) << " | " << num(median(s.r_deg)) << " | " << num(median(s.adds_mm)) << " |\n";
+      std::cout << "| " << name << " | " << s.truths << " | " << num(ratio(s.matched, s.detections))
+                << " | " << num(ratio(s.matched, s.truths)) << " | " << num(median(s.kp_px))
+                << " | " << s.pnp_ok << " | " << num(median(s.t_mm)) << " | "
+                << num(median(s.r_deg)) << " | " << num(median(s.adds_mm)) << " |\n";
     };
     for (const auto& [c, s] : per) row(c, s);
     row("**all**", all);
     const std::string rule = args.threshold_beta == 1.0 ? "F1" : "F" + num(args.threshold_beta);
-    std::cout << "\nscore threshold with the best " << rule << " per class (precision / recall there):";
+    std::cout << "\nscore threshold with the best " << rule
+              << " per class (precision / recall there):";
     std::ostringstream suggested;
     const char* sep = "";
     for (const auto& [c, curve] : curves) {
       const ScorePoint& best = bestF(curve, args.threshold_beta);
-      std::cout << " " << c << " " << best.threshold << " (" << num(best.precision) << " / " << num(best.recall) << ")";
+      std::cout << " " << c << " " << best.threshold << " (" << num(best.precision) << " / "
+                << num(best.recall) << ")";
       if (best.precision >= kReliablePrecision)
         suggested << sep << c << ": " << best.threshold, sep = ", ";
     }
     const std::string line = "score_thresholds: {" + suggested.str() + "}";
-    std::cout << "\nsuggested (best " << rule << " where precision >= " << kReliablePrecision << "; others keep the global): " << line
-              << "\n";
+    std::cout << "\nsuggested (best " << rule << " where precision >= " << kReliablePrecision
+              << "; others keep the global): " << line << "\n";
     if (args.write_thresholds) {
       writeThresholds(args.model, line, rule);
       std::cout << "written into " << args.model << "\n";
     }
-    std::cout << "\ninference (detector incl. letterbox + decoding + PnP) median " << num(median(infer_ms))
-              << " ms per frame. Report: " << args.output << "/report.json\n";
+    std::cout << "\ninference (detector incl. letterbox + decoding + PnP) median "
+              << num(median(infer_ms)) << " ms per frame. Report: " << args.output
+              << "/report.json\n";
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n";
     return 1;

@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
     const std::string path = dir + "/" + name + ".stl";
     sgt::saveStl(mesh, path);
     const auto size = mesh.boundingBox().sizes();
-    std::cout << path << ": " << mesh.triangleCount() << " triangles, " << size.x() << " x " << size.y()
-              << " x " << size.z() << " m\n";
+    std::cout << path << ": " << mesh.triangleCount() << " triangles, " << size.x() << " x "
+              << size.y() << " x " << size.z() << " m\n";
   }
   return 0;
 }

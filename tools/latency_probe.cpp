@@ -19,9 +19,12 @@ int main(int argc, char** argv) {
   double duration = 25.0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--topic") topic = argv[i + 1];
-    else if (k == "--duration") duration = std::stod(argv[i + 1]);
-    else if (k == "--output") output = argv[i + 1];
+    if (k == "--topic")
+      topic = argv[i + 1];
+    else if (k == "--duration")
+      duration = std::stod(argv[i + 1]);
+    else if (k == "--output")
+      output = argv[i + 1];
   }
   ros::NodeHandle nh;
   std::vector<double> ms;
@@ -43,14 +46,19 @@ int main(int argc, char** argv) {
   }
   std::vector<double> s = ms;
   std::sort(s.begin(), s.end());
-  const auto q = [&](double p) { return s[std::min(s.size() - 1, static_cast<std::size_t>(p * (s.size() - 1) + 0.5))]; };
+  const auto q = [&](double p) {
+    return s[std::min(s.size() - 1, static_cast<std::size_t>(p * (s.size() - 1) + 0.5))];
+  };
   std::ostringstream confirmed;
   const char* sep = "";
-  for (const auto& [c, t] : first_confirmed) confirmed << sep << "\"" << c << "\": " << t, sep = ", ";
-  std::cout << "latency image stamp -> tracked objects: " << s.size() << " messages, p50 " << q(0.5) << " ms, p95 "
-            << q(0.95) << " ms, max " << s.back() << " ms; first confirmed (s): {" << confirmed.str() << "}\n";
+  for (const auto& [c, t] : first_confirmed)
+    confirmed << sep << "\"" << c << "\": " << t, sep = ", ";
+  std::cout << "latency image stamp -> tracked objects: " << s.size() << " messages, p50 " << q(0.5)
+            << " ms, p95 " << q(0.95) << " ms, max " << s.back() << " ms; first confirmed (s): {"
+            << confirmed.str() << "}\n";
   if (!output.empty())
-    std::ofstream(output) << "{\"messages\": " << s.size() << ", \"p50_ms\": " << q(0.5) << ", \"p95_ms\": " << q(0.95)
-                          << ", \"max_ms\": " << s.back() << ", \"first_confirmed_s\": {" << confirmed.str() << "}}\n";
+    std::ofstream(output) << "{\"messages\": " << s.size() << ", \"p50_ms\": " << q(0.5)
+                          << ", \"p95_ms\": " << q(0.95) << ", \"max_ms\": " << s.back()
+                          << ", \"first_confirmed_s\": {" << confirmed.str() << "}}\n";
   return 0;
 }

@@ -1,5 +1,6 @@
 // The files generated from the parameter schema (pipeline/parameter_schema.hpp).
-//   print_parameters --write DIR   rewrites config/tracker.yaml, config/detector.yaml, cfg/Tracker.cfg,
+//   print_parameters --write DIR   rewrites config/tracker.yaml, config/detector.yaml,
+//   cfg/Tracker.cfg,
 //                                  doc/parameters.md and the README's index under DIR, the package
 //                                  source (`make params`); says which ones changed
 //   print_parameters WHAT          prints one: tracker-yaml, detector-yaml, tracker-cfg,
@@ -37,11 +38,13 @@ void update(const std::string& path, const std::string& text) {
 int main(int argc, char** argv) {
   using namespace sgt::params;
   const std::map<std::string, std::function<std::string()>> files = {
-      {"tracker-yaml", trackerYaml},     {"detector-yaml", detectorYaml},     {"tracker-cfg", trackerReconfigure},
-      {"tracker-tables", trackerTables}, {"detector-tables", detectorTables}, {"reference", parameterReference},
+      {"tracker-yaml", trackerYaml},       {"detector-yaml", detectorYaml},
+      {"tracker-cfg", trackerReconfigure}, {"tracker-tables", trackerTables},
+      {"detector-tables", detectorTables}, {"reference", parameterReference},
   };
-  const std::string usage = "usage: print_parameters --write PACKAGE_DIR | tracker-yaml | detector-yaml | tracker-cfg | "
-                            "tracker-tables | detector-tables | reference\n";
+  const std::string usage =
+      "usage: print_parameters --write PACKAGE_DIR | tracker-yaml | detector-yaml | tracker-cfg | "
+      "tracker-tables | detector-tables | reference\n";
   try {
     if (argc == 3 && std::string(argv[1]) == "--write") {
       const std::string dir = argv[2];

@@ -2,7 +2,8 @@
 // keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
 //
 //   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
-//                                             [--bench-fraction F] [--labels object|cuboid] [--mesh-dir D]
+//                                             [--bench-fraction F] [--labels object|cuboid]
+//                                             [--mesh-dir D]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
@@ -15,23 +16,23 @@
 //                         convention (a pixel's centre at +0.5); v 2 inside the image (also when
 //                         occluded), else 0 with x = y = 0
 // DIR/poses/000123.json   scene kind (bench or random), camera K and per labelled object its class,
-//                         T_camera_object and the symmetry-canonical pose the keypoints were made from
+//                         T_camera_object and the symmetry-canonical pose the keypoints were made
+//                         from
 // DIR/dataset.yaml        ultralytics style
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <string>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
 
@@ -42,7 +43,8 @@ using Eigen::Vector3f;
 
 namespace {
 
-const std::vector<std::string> kClasses = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
+const std::vector<std::string> kClasses = {"multimeter", "screwdriver", "materialbox", "klt",
+                                           "relay"};
 constexpr int kMinVisiblePixels = 120;
 constexpr sgt::NodeId kMapNode = 1, kTableNode = 2, kFirstWallNode = 10, kFirstObjectNode = 100,
                       kFirstDistractorNode = 200;
@@ -62,10 +64,13 @@ struct Rng {
   double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
   int integer(int a, int b) { return std::uniform_int_distribution<int>(a, b)(g); }
   bool chance(double p) { return uniform(0.0, 1.0) < p; }
-  Vector3f colour() { return Vector3f(uniform(0.05, 0.95), uniform(0.05, 0.95), uniform(0.05, 0.95)); }
+  Vector3f colour() {
+    return Vector3f(uniform(0.05, 0.95), uniform(0.05, 0.95), uniform(0.05, 0.95));
+  }
   Eigen::Quaterniond rotation() {  // uniform
-    Eigen::Quaterniond q(std::normal_distribution<double>()(g), std::normal_distribution<double>()(g),
-                         std::normal_distribution<double>()(g), std::normal_distribution<double>()(g));
+    Eigen::Quaterniond q(
+        std::normal_distribution<double>()(g), std::normal_distribution<double>()(g),
+        std::normal_distribution<double>()(g), std::normal_distribution<double>()(g));
     return q.normalized();
   }
 };
@@ -82,7 +87,9 @@ Eigen::Matrix3d yaw(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitZ()).t
 // z of the lowest corner of a box turned by R.
 double lowestCorner(const Eigen::Matrix3d& R, const Eigen::AlignedBox3d& box) {
   double lowest = 1e9;
-  for (int c = 0; c < 8; ++c) lowest = std::min(lowest, (R * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))).z());
+  for (int c = 0; c < 8; ++c)
+    lowest =
+        std::min(lowest, (R * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c))).z());
   return lowest;
 }
 
@@ -103,12 +110,16 @@ struct Placed {
 
 class DatasetRenderer {
  public:
-  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance, double bench_fraction,
-                  bool cuboid_labels)
-      : catalog_(catalog), seed_(seed), max_distance_(max_distance), bench_fraction_(bench_fraction),
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance,
+                  double bench_fraction, bool cuboid_labels)
+      : catalog_(catalog),
+        seed_(seed),
+        max_distance_(max_distance),
+        bench_fraction_(bench_fraction),
         cuboid_labels_(cuboid_labels) {
     sgt::BuildingOptions b;
-    b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2, b.target_triangles = 80000, b.seed = seed;
+    b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2,
+    b.target_triangles = 80000, b.seed = seed;
     building_ = sgt::makeBuilding(b);
     scene_.setStaticMap(std::make_shared<sgt::TriangleMesh>(building_.mesh), kMapNode);
     Rng rng{std::mt19937(seed ^ 0x5eedu)};
@@ -119,29 +130,35 @@ class DatasetRenderer {
     }
     for (int i = 0; i < 10; ++i) {
       const Vector3f size(rng.uniform(0.5, 1.8), rng.uniform(0.4, 1.0), rng.uniform(0.4, 1.0));
-      lib_.tables.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
+      lib_.tables.push_back(
+          scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
       lib_.table_boxes.emplace_back(-0.5 * size.cast<double>(), 0.5 * size.cast<double>());
     }
     for (int i = 0; i < 24; ++i) {
       std::shared_ptr<sgt::TriangleMesh> m;
       if (i % 3 == 0)
-        m = std::make_shared<sgt::TriangleMesh>(
-            sgt::makeBox(Vector3f(rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3))));
+        m = std::make_shared<sgt::TriangleMesh>(sgt::makeBox(
+            Vector3f(rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3), rng.uniform(0.02, 0.3))));
       else if (i % 3 == 1)
-        m = std::make_shared<sgt::TriangleMesh>(sgt::makeCylinder(rng.uniform(0.01, 0.1), rng.uniform(0.03, 0.35), 24));
+        m = std::make_shared<sgt::TriangleMesh>(
+            sgt::makeCylinder(rng.uniform(0.01, 0.1), rng.uniform(0.03, 0.35), 24));
       else
         m = std::make_shared<sgt::TriangleMesh>(sgt::makeSphere(rng.uniform(0.015, 0.12), 24, 12));
       lib_.distractors.push_back(scene_.addMesh(m));
     }
-    lib_.wall = scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(Vector3f(40.0f, 40.0f, 0.02f))));
+    lib_.wall = scene_.addMesh(
+        std::make_shared<sgt::TriangleMesh>(sgt::makeBox(Vector3f(40.0f, 40.0f, 0.02f))));
     // Bench scenes: workbench-sized tables (the demo's is 1.6 x 0.8 x 0.75 m) and people.
-    for (const Vector3f& size : {Vector3f(1.6f, 0.8f, 0.75f), Vector3f(1.2f, 0.7f, 0.72f), Vector3f(2.0f, 0.9f, 0.9f),
-                                Vector3f(1.4f, 0.6f, 0.8f), Vector3f(1.8f, 0.75f, 0.78f)}) {
-      lib_.benches.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
+    for (const Vector3f& size :
+         {Vector3f(1.6f, 0.8f, 0.75f), Vector3f(1.2f, 0.7f, 0.72f), Vector3f(2.0f, 0.9f, 0.9f),
+          Vector3f(1.4f, 0.6f, 0.8f), Vector3f(1.8f, 0.75f, 0.78f)}) {
+      lib_.benches.push_back(
+          scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeBox(size))));
       lib_.bench_boxes.emplace_back(-0.5 * size.cast<double>(), 0.5 * size.cast<double>());
     }
     for (const double h : {1.6, 1.75, 1.9}) {
-      lib_.persons.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(sgt::makeCylinder(0.25f, static_cast<float>(h), 48))));
+      lib_.persons.push_back(scene_.addMesh(std::make_shared<sgt::TriangleMesh>(
+          sgt::makeCylinder(0.25f, static_cast<float>(h), 48))));
       lib_.person_heights.push_back(h);
     }
     colours_.static_map = kMapNode;
@@ -154,7 +171,8 @@ class DatasetRenderer {
   Vector3d placeSupport(Rng& rng, double& top, Eigen::Vector2d& half, bool bench);
   void placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half);
   void placeBenchObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half);
-  void addObject(Rng& rng, int cls, sgt::NodeId node, const Isometry3d& T_world_object, double random_colour, double jitter);
+  void addObject(Rng& rng, int cls, sgt::NodeId node, const Isometry3d& T_world_object,
+                 double random_colour, double jitter);
   Isometry3d placeCamera(Rng& rng, const Vector3d& target);
   Isometry3d placeBenchCamera(Rng& rng, const Vector3d& target, double top);
   void placePerson(Rng& rng, const Vector3d& centre, double top);
@@ -206,7 +224,8 @@ Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& h
       Vector3d t = centre;
       if (w == 1) t.z() = h;
       if (w >= 2) {
-        R = yaw(a + (w - 2) * M_PI / 2) * Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix();
+        R = yaw(a + (w - 2) * M_PI / 2) *
+            Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix();
         t += yaw(a + (w - 2) * M_PI / 2) * Vector3d(rng.uniform(2.8, 6.0), 0.0, 0.0);
       }
       scene_.addInstance(kFirstWallNode + w, lib_.wall, pose(R, t));
@@ -222,10 +241,13 @@ Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& h
     const Eigen::AlignedBox3d& b = bench ? lib_.bench_boxes[k] : lib_.table_boxes[k];
     const bool turned = rng.chance(0.5);  // quarter turns keep the top axis-aligned
     top = b.max().z() - b.min().z();
-    half = turned ? Eigen::Vector2d(b.max().y(), b.max().x()) : Eigen::Vector2d(b.max().x(), b.max().y());
-    scene_.addInstance(kTableNode, meshes[k], pose(yaw(turned ? M_PI / 2 : 0.0), centre + Vector3d(0, 0, top / 2)));
-    colours_.albedo[kTableNode] =
-        rng.chance(bench ? 0.75 : 0.4) ? Vector3f(0.62f, 0.45f, 0.28f) * rng.uniform(0.7, 1.2) : rng.colour();
+    half = turned ? Eigen::Vector2d(b.max().y(), b.max().x())
+                  : Eigen::Vector2d(b.max().x(), b.max().y());
+    scene_.addInstance(kTableNode, meshes[k],
+                       pose(yaw(turned ? M_PI / 2 : 0.0), centre + Vector3d(0, 0, top / 2)));
+    colours_.albedo[kTableNode] = rng.chance(bench ? 0.75 : 0.4)
+                                      ? Vector3f(0.62f, 0.45f, 0.28f) * rng.uniform(0.7, 1.2)
+                                      : rng.colour();
     extra_nodes_.push_back(kTableNode);
   }
   return centre + Vector3d(0, 0, top);
@@ -233,31 +255,39 @@ Vector3d DatasetRenderer::placeSupport(Rng& rng, double& top, Eigen::Vector2d& h
 
 // A catalog object in its class colour, varied by up to +-jitter per channel, or with probability
 // random_colour in a random one; labelled.
-void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node, const Isometry3d& T_world_object, double random_colour,
+void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node,
+                                const Isometry3d& T_world_object, double random_colour,
                                 double jitter) {
   scene_.addInstance(node, lib_.classes[cls], T_world_object);
   Vector3f c = sgt::sim::classColour(kClasses[cls]);
-  if (rng.chance(random_colour)) c = rng.colour();
-  else c = (c + Vector3f(rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter))).cwiseMax(0.02f).cwiseMin(1.0f);
+  if (rng.chance(random_colour))
+    c = rng.colour();
+  else
+    c = (c + Vector3f(rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter),
+                      rng.uniform(-jitter, jitter)))
+            .cwiseMax(0.02f)
+            .cwiseMin(1.0f);
   colours_.albedo[node] = c;
   placed_.push_back({cls, node, T_world_object});
 }
 
 // 1-6 catalog objects (sometimes several of a class): mostly resting on a face in a random yaw,
 // some in a random orientation; 0-6 distractor primitives.
-void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half) {
+void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
+                                   const Eigen::Vector2d& half) {
   const int n = rng.integer(1, 6);
   auto onSupport = [&](const Eigen::Matrix3d& R, const Eigen::AlignedBox3d& box) {
     const double lowest = lowestCorner(R, box);
-    return Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.9, centre.y() + rng.uniform(-half.y(), half.y()) * 0.9,
-                    top - lowest);
+    return Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.9,
+                    centre.y() + rng.uniform(-half.y(), half.y()) * 0.9, top - lowest);
   };
   for (int i = 0; i < n; ++i) {
     const int cls = rng.integer(0, static_cast<int>(kClasses.size()) - 1);
     Eigen::Matrix3d R;
     if (rng.chance(0.75)) {  // resting on one of its six faces
       static const Eigen::Matrix3d faces[6] = {
-          Eigen::Matrix3d::Identity(), Eigen::AngleAxisd(M_PI, Vector3d::UnitX()).toRotationMatrix(),
+          Eigen::Matrix3d::Identity(),
+          Eigen::AngleAxisd(M_PI, Vector3d::UnitX()).toRotationMatrix(),
           Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitX()).toRotationMatrix(),
           Eigen::AngleAxisd(-M_PI / 2, Vector3d::UnitX()).toRotationMatrix(),
           Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()).toRotationMatrix(),
@@ -273,7 +303,8 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
   const int d = rng.integer(0, 6);
   for (int i = 0; i < d; ++i) {
     const int k = rng.integer(0, static_cast<int>(lib_.distractors.size()) - 1);
-    const Eigen::Matrix3d R = rng.chance(0.6) ? yaw(rng.uniform(0, 2 * M_PI)) : rng.rotation().toRotationMatrix();
+    const Eigen::Matrix3d R =
+        rng.chance(0.6) ? yaw(rng.uniform(0, 2 * M_PI)) : rng.rotation().toRotationMatrix();
     const Eigen::AlignedBox3d box = scene_.mesh(lib_.distractors[k]).boundingBox().cast<double>();
     const sgt::NodeId node = kFirstDistractorNode + i;
     scene_.addInstance(node, lib_.distractors[k], pose(R, onSupport(R, box)));
@@ -285,15 +316,18 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
 // 2-6 objects (each class at most once until all five are there) on the bench, most upright as in
 // the catalog in a random yaw, apart from each other; some lifted as if held; 0-3 distractor
 // primitives between them.
-void DatasetRenderer::placeBenchObjects(Rng& rng, double top, const Vector3d& centre, const Eigen::Vector2d& half) {
+void DatasetRenderer::placeBenchObjects(Rng& rng, double top, const Vector3d& centre,
+                                        const Eigen::Vector2d& half) {
   std::vector<int> order = {0, 1, 2, 3, 4};
   std::shuffle(order.begin(), order.end(), rng.g);
   std::vector<Eigen::Vector3d> taken;  // x, y, footprint radius
   auto freeSpot = [&](double radius, Vector3d& at) {
     for (int attempt = 0; attempt < 30; ++attempt) {
-      at = Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.85, centre.y() + rng.uniform(-half.y(), half.y()) * 0.85, 0.0);
+      at = Vector3d(centre.x() + rng.uniform(-half.x(), half.x()) * 0.85,
+                    centre.y() + rng.uniform(-half.y(), half.y()) * 0.85, 0.0);
       bool clear = true;
-      for (const auto& o : taken) clear = clear && (at.head<2>() - o.head<2>()).norm() > 0.8 * (radius + o.z());
+      for (const auto& o : taken)
+        clear = clear && (at.head<2>() - o.head<2>()).norm() > 0.8 * (radius + o.z());
       if (clear) return taken.emplace_back(at.x(), at.y(), radius), true;
     }
     return false;
@@ -302,7 +336,9 @@ void DatasetRenderer::placeBenchObjects(Rng& rng, double top, const Vector3d& ce
   for (int i = 0; i < n; ++i) {
     const int cls = i < 5 ? order[i] : rng.integer(0, 4);
     Eigen::Matrix3d R = yaw(rng.uniform(0, 2 * M_PI));
-    if (rng.chance(0.15)) R = R * Eigen::AngleAxisd(rng.chance(0.5) ? M_PI / 2 : -M_PI / 2, rng.chance(0.5) ? Vector3d::UnitX() : Vector3d::UnitY());
+    if (rng.chance(0.15))
+      R = R * Eigen::AngleAxisd(rng.chance(0.5) ? M_PI / 2 : -M_PI / 2,
+                                rng.chance(0.5) ? Vector3d::UnitX() : Vector3d::UnitY());
     const Eigen::AlignedBox3d& box = lib_.class_boxes[cls];
     Vector3d t;
     if (!freeSpot(0.5 * box.sizes().head<2>().norm(), t)) continue;
@@ -330,7 +366,8 @@ void DatasetRenderer::placePerson(Rng& rng, const Vector3d& centre, double top) 
   if (!rng.chance(0.4)) return;
   const int k = rng.integer(0, static_cast<int>(lib_.persons.size()) - 1);
   const double a = rng.uniform(0, 2 * M_PI), r = rng.uniform(0.4, 1.4);
-  const Vector3d at = centre + Vector3d(r * std::cos(a), r * std::sin(a), -top + 0.5 * lib_.person_heights[k]);
+  const Vector3d at =
+      centre + Vector3d(r * std::cos(a), r * std::sin(a), -top + 0.5 * lib_.person_heights[k]);
   const sgt::NodeId node = kFirstDistractorNode + 10;
   scene_.addInstance(node, lib_.persons[k], pose(Eigen::Matrix3d::Identity(), at));
   colours_.albedo[node] = rng.colour() * 0.6f;
@@ -348,10 +385,12 @@ bool DatasetRenderer::insideRoom(const Vector3d& eye) const {
 Isometry3d DatasetRenderer::placeBenchCamera(Rng& rng, const Vector3d& target, double top) {
   for (int attempt = 0;; ++attempt) {
     const double d = rng.uniform(0.9, 3.4), az = rng.uniform(0, 2 * M_PI);
-    const Vector3d eye(target.x() + d * std::cos(az), target.y() + d * std::sin(az), top + rng.uniform(0.3, 0.75));
+    const Vector3d eye(target.x() + d * std::cos(az), target.y() + d * std::sin(az),
+                       top + rng.uniform(0.3, 0.75));
     if (!insideRoom(eye) && attempt < 50) continue;
     Isometry3d T = sgt::opticalLookAt(eye, target);
-    T.linear() = T.linear() * Eigen::AngleAxisd(rng.uniform(-0.05, 0.05), Vector3d::UnitZ()).toRotationMatrix();
+    T.linear() = T.linear() *
+                 Eigen::AngleAxisd(rng.uniform(-0.05, 0.05), Vector3d::UnitZ()).toRotationMatrix();
     return T;
   }
 }
@@ -359,11 +398,14 @@ Isometry3d DatasetRenderer::placeBenchCamera(Rng& rng, const Vector3d& target, d
 // 0.5 m to max_distance_ from a point near the objects, looking down 10-60 degrees, some roll.
 Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
   for (int attempt = 0;; ++attempt) {
-    const double d = rng.uniform(0.5, max_distance_), el = rng.uniform(10.0, 60.0) * M_PI / 180.0, az = rng.uniform(0, 2 * M_PI);
-    const Vector3d eye = target + d * Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const double d = rng.uniform(0.5, max_distance_), el = rng.uniform(10.0, 60.0) * M_PI / 180.0,
+                 az = rng.uniform(0, 2 * M_PI);
+    const Vector3d eye = target + d * Vector3d(std::cos(el) * std::cos(az),
+                                               std::cos(el) * std::sin(az), std::sin(el));
     if (!insideRoom(eye) && attempt < 50) continue;
     Isometry3d T = sgt::opticalLookAt(eye, target);
-    T.linear() = T.linear() * Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Vector3d::UnitZ()).toRotationMatrix();
+    T.linear() = T.linear() *
+                 Eigen::AngleAxisd(rng.uniform(-0.35, 0.35), Vector3d::UnitZ()).toRotationMatrix();
     return T;
   }
 }
@@ -371,43 +413,57 @@ Isometry3d DatasetRenderer::placeCamera(Rng& rng, const Vector3d& target) {
 void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   Rng rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 2654435761u + index * 40503u + 17u))};
   // Drawn from its own stream, so that --bench-fraction 0 leaves the random scenes as they were.
-  bench_ = bench_fraction_ > 0.0 && Rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 97u + index * 7919u + 3u))}.chance(bench_fraction_);
+  bench_ = bench_fraction_ > 0.0 &&
+           Rng{std::mt19937(static_cast<std::uint32_t>(seed_ * 97u + index * 7919u + 3u))}.chance(
+               bench_fraction_);
   const bool bench = bench_;
   clear();
   double top = 0.0;
   Eigen::Vector2d half;
   const Vector3d centre = placeSupport(rng, top, half, bench);
-  if (bench) placeBenchObjects(rng, top, centre, half), placePerson(rng, centre, top);
-  else placeObjects(rng, top, centre, half);
+  if (bench)
+    placeBenchObjects(rng, top, centre, half), placePerson(rng, centre, top);
+  else
+    placeObjects(rng, top, centre, half);
   scene_.commit();
   Vector3d target = Vector3d::Zero();
   for (const auto& p : placed_) target += p.T_world_object.translation();
-  if (placed_.empty()) target = centre;
-  else target /= static_cast<double>(placed_.size());
+  if (placed_.empty())
+    target = centre;
+  else
+    target /= static_cast<double>(placed_.size());
   Isometry3d T_world_camera;
   sgt::sim::RenderStyle style;
   if (bench) {  // the demo's camera and light (README, "Scenario format"), a little varied
-    target = Vector3d(target.x() + rng.uniform(-0.3, 0.3), target.y() + rng.uniform(-0.3, 0.3), top + rng.uniform(-0.1, 0.1));
+    target = Vector3d(target.x() + rng.uniform(-0.3, 0.3), target.y() + rng.uniform(-0.3, 0.3),
+                      top + rng.uniform(-0.1, 0.1));
     camera_.fx = camera_.fy = rng.uniform(500.0, 560.0);
     camera_.cx = 319.5 + rng.uniform(-4, 4), camera_.cy = 239.5 + rng.uniform(-4, 4);
     T_world_camera = placeBenchCamera(rng, target, top);
-    style.light_direction = (style.light_direction + Vector3f(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), 0.0f)).normalized();
-    style.ambient = rng.uniform(0.25, 0.45), style.diffuse = rng.uniform(0.3, 0.6), style.headlight = rng.uniform(0.1, 0.35);
+    style.light_direction =
+        (style.light_direction + Vector3f(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4), 0.0f))
+            .normalized();
+    style.ambient = rng.uniform(0.25, 0.45), style.diffuse = rng.uniform(0.3, 0.6),
+    style.headlight = rng.uniform(0.1, 0.35);
     style.floor_tile = rng.uniform(0.4, 0.6);
   } else {
     target += Vector3d(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.05, 0.1));
     camera_.fx = camera_.fy = rng.uniform(480.0, 620.0);
     camera_.cx = 319.5 + rng.uniform(-8, 8), camera_.cy = 239.5 + rng.uniform(-8, 8);
     T_world_camera = placeCamera(rng, target);
-    style.light_direction = Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2, 1.0)).normalized();
-    style.ambient = rng.uniform(0.15, 0.5), style.diffuse = rng.uniform(0.2, 0.7), style.headlight = rng.uniform(0.0, 0.4);
+    style.light_direction =
+        Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.2, 1.0)).normalized();
+    style.ambient = rng.uniform(0.15, 0.5), style.diffuse = rng.uniform(0.2, 0.7),
+    style.headlight = rng.uniform(0.0, 0.4);
     style.background = rng.colour() * 0.3f;
     style.floor_tile = rng.uniform(0.2, 0.8);
   }
   const sgt::SimulatedScan scan = sgt::simulate(scene_, sgt::makeRays(camera_), T_world_camera);
   const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
   cv::Mat bgr;
-  cv::cvtColor(cv::Mat(camera_.height, camera_.width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data())), bgr, cv::COLOR_RGB2BGR);
+  cv::cvtColor(
+      cv::Mat(camera_.height, camera_.width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data())), bgr,
+      cv::COLOR_RGB2BGR);
   char name[32];
   std::snprintf(name, sizeof name, "%06zu", index);
   cv::imwrite((dir / "images" / (std::string(name) + ".png")).string(), bgr);
@@ -424,7 +480,8 @@ void writeMatrix(std::ostream& os, const Isometry3d& T) {
   os << "]";
 }
 
-void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
+void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
+                                  const Isometry3d& T_world_camera,
                                   const sgt::SimulatedScan& scan) {
   struct Visible {
     int pixels = 0, x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
@@ -435,7 +492,8 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
       const sgt::NodeId n = scan.node[static_cast<std::size_t>(v) * scan.width + u];
       if (n < kFirstObjectNode || n >= kFirstDistractorNode) continue;
       Visible& s = vis[n];
-      ++s.pixels, s.x0 = std::min(s.x0, u), s.y0 = std::min(s.y0, v), s.x1 = std::max(s.x1, u), s.y1 = std::max(s.y1, v);
+      ++s.pixels, s.x0 = std::min(s.x0, u), s.y0 = std::min(s.y0, v), s.x1 = std::max(s.x1, u),
+                  s.y1 = std::max(s.y1, v);
     }
   char name[32];
   std::snprintf(name, sizeof name, "%06zu", index);
@@ -443,8 +501,9 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
   std::ofstream json(dir / "poses" / (std::string(name) + ".json"));
   txt.precision(6), json.precision(9);
   const double W = camera_.width, H = camera_.height;
-  json << "{\"scene\": \"" << (bench_ ? "bench" : "random") << "\", \"width\": " << camera_.width << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, "
-       << camera_.cx << ", 0, " << camera_.fy << ", " << camera_.cy << ", 0, 0, 1],\n \"objects\": [";
+  json << "{\"scene\": \"" << (bench_ ? "bench" : "random") << "\", \"width\": " << camera_.width
+       << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, " << camera_.cx
+       << ", 0, " << camera_.fy << ", " << camera_.cy << ", 0, 0, 1],\n \"objects\": [";
   bool first = true;
   for (const auto& p : placed_) {
     const auto it = vis.find(p.node);
@@ -452,18 +511,22 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
     const Visible& s = it->second;
     const sgt::ObjectClass& oc = catalog_.get(kClasses[p.class_id]);
     const Isometry3d T = T_world_camera.inverse() * p.T_world_object;
-    const Isometry3d T_label = cuboid_labels_ ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
-                                              : sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
+    const Isometry3d T_label = cuboid_labels_
+                                   ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
+                                   : sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
     const auto proj = sgt::detection::projectCuboid(camera_, T_label, lib_.class_boxes[p.class_id]);
-    txt << p.class_id << ' ' << (s.x0 + s.x1 + 1) / (2 * W) << ' ' << (s.y0 + s.y1 + 1) / (2 * H) << ' '
-        << (s.x1 - s.x0 + 1) / W << ' ' << (s.y1 - s.y0 + 1) / H;
+    txt << p.class_id << ' ' << (s.x0 + s.x1 + 1) / (2 * W) << ' ' << (s.y0 + s.y1 + 1) / (2 * H)
+        << ' ' << (s.x1 - s.x0 + 1) / W << ' ' << (s.y1 - s.y0 + 1) / H;
     for (int k = 0; k < sgt::detection::kCuboidKeypoints; ++k) {
-      if (proj.inside[k]) txt << ' ' << (proj.uv[k].x() + 0.5) / W << ' ' << (proj.uv[k].y() + 0.5) / H << " 2";
-      else txt << " 0 0 0";
+      if (proj.inside[k])
+        txt << ' ' << (proj.uv[k].x() + 0.5) / W << ' ' << (proj.uv[k].y() + 0.5) / H << " 2";
+      else
+        txt << " 0 0 0";
     }
     txt << '\n';
-    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << kClasses[p.class_id] << "\", \"class_id\": " << p.class_id
-         << ", \"visible_pixels\": " << s.pixels << ", \"T_camera_object\": ";
+    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << kClasses[p.class_id]
+         << "\", \"class_id\": " << p.class_id << ", \"visible_pixels\": " << s.pixels
+         << ", \"T_camera_object\": ";
     writeMatrix(json, T);
     json << ", \"T_camera_object_label\": ";
     writeMatrix(json, T_label);
@@ -474,13 +537,16 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir, const 
 }
 
 void usage(std::ostream& os) {
-  os << "usage: render_dataset --output DIR --count N [--seed S] [--max-distance M] [--mesh-dir D]\n"
+  os << "usage: render_dataset --output DIR --count N [--seed S] [--max-distance M] [--mesh-dir "
+        "D]\n"
         "  --output    dataset directory (images/, labels/, poses/, dataset.yaml)\n"
         "  --count     number of images\n"
         "  --seed      random seed (default 1); the same seed renders the same images\n"
         "  --max-distance  camera distances are drawn from 0.5 m to M (default 2.5)\n"
-        "  --bench-fraction  this fraction of the images (0-1, default 0) are bench scenes like the robot's\n"
-        "  --labels    object (default): keypoints of the pose up to the object's symmetries; cuboid: up to\n"
+        "  --bench-fraction  this fraction of the images (0-1, default 0) are bench scenes like "
+        "the robot's\n"
+        "  --labels    object (default): keypoints of the pose up to the object's symmetries; "
+        "cuboid: up to\n"
         "              a half turn of its box as well (detection/keypoint_labels.hpp)\n"
         "  --mesh-dir  use the meshes in D for the catalog classes\n";
 }
@@ -492,19 +558,27 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") return usage(std::cout), 0;
-    if (i + 1 >= argc) return std::cerr << "render_dataset: " << a << " needs a value\n", usage(std::cerr), 2;
+    if (i + 1 >= argc)
+      return std::cerr << "render_dataset: " << a << " needs a value\n", usage(std::cerr), 2;
     const std::string v = argv[++i];
-    if (a == "--output") args.output = v;
-    else if (a == "--count") args.count = std::stoul(v);
-    else if (a == "--seed") args.seed = static_cast<std::uint32_t>(std::stoul(v));
-    else if (a == "--mesh-dir") args.mesh_dir = v;
-    else if (a == "--max-distance") args.max_distance = std::stod(v);
-    else if (a == "--bench-fraction") args.bench_fraction = std::stod(v);
+    if (a == "--output")
+      args.output = v;
+    else if (a == "--count")
+      args.count = std::stoul(v);
+    else if (a == "--seed")
+      args.seed = static_cast<std::uint32_t>(std::stoul(v));
+    else if (a == "--mesh-dir")
+      args.mesh_dir = v;
+    else if (a == "--max-distance")
+      args.max_distance = std::stod(v);
+    else if (a == "--bench-fraction")
+      args.bench_fraction = std::stod(v);
     else if (a == "--labels") {
-      if (v != "object" && v != "cuboid") return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
+      if (v != "object" && v != "cuboid")
+        return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
       args.cuboid_labels = v == "cuboid";
-    }
-    else return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
+    } else
+      return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
   if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5) ||
       !(args.bench_fraction >= 0.0 && args.bench_fraction <= 1.0))
@@ -514,7 +588,8 @@ int main(int argc, char** argv) {
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog =
         sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
-    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction, args.cuboid_labels);
+    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction,
+                             args.cuboid_labels);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       renderer.render(i, dir);
@@ -522,11 +597,12 @@ int main(int argc, char** argv) {
     }
     bar.finish();
     std::ofstream yaml(dir / "dataset.yaml");
-    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed << " --max-distance " << args.max_distance
-         << " --bench-fraction " << args.bench_fraction << " --labels " << (args.cuboid_labels ? "cuboid" : "object")
-         << "\npath: " << dir.string()
+    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed
+         << " --max-distance " << args.max_distance << " --bench-fraction " << args.bench_fraction
+         << " --labels " << (args.cuboid_labels ? "cuboid" : "object") << "\npath: " << dir.string()
          << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
-    for (std::size_t c = 0; c < kClasses.size(); ++c) yaml << "  " << c << ": " << kClasses[c] << "\n";
+    for (std::size_t c = 0; c < kClasses.size(); ++c)
+      yaml << "  " << c << ": " << kClasses[c] << "\n";
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";
     return 1;

@@ -1,7 +1,9 @@
-// Simulates a scenario into a rosbag with ground truth (topics: include/scene_graph_tracker/simulation/scenario_bag.hpp,
-// scenario format: README.md "Scenario format").
+// Simulates a scenario into a rosbag with ground truth (topics:
+// include/scene_graph_tracker/simulation/scenario_bag.hpp, scenario format: README.md "Scenario
+// format").
 //
-//   rosrun scene_graph_tracker simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR] [--lz4] [--quiet]
+//   rosrun scene_graph_tracker simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR]
+//   [--lz4] [--quiet]
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,7 +18,8 @@ void usage(std::ostream& os) {
   os << "usage: simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR] [--lz4] [--quiet]\n"
         "  --scenario  the scenario (format: README.md, \"Scenario format\")\n"
         "  --output    the bag to write (overwritten)\n"
-        "  --mesh-dir  use the meshes in DIR for the catalog classes (e.g. ../shared/data/pbr_objects/meshes),\n"
+        "  --mesh-dir  use the meshes in DIR for the catalog classes (e.g. "
+        "../shared/data/pbr_objects/meshes),\n"
         "              replacing the scenario's mesh_dir\n"
         "  --lz4       compress the bag with LZ4\n"
         "  --quiet     no progress bar\n";
@@ -37,11 +40,16 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--scenario") scenario_path = value();
-    else if (a == "--output") output = value();
-    else if (a == "--mesh-dir") mesh_dir = value();
-    else if (a == "--lz4") lz4 = true;
-    else if (a == "--quiet") quiet = true;
+    if (a == "--scenario")
+      scenario_path = value();
+    else if (a == "--output")
+      output = value();
+    else if (a == "--mesh-dir")
+      mesh_dir = value();
+    else if (a == "--lz4")
+      lz4 = true;
+    else if (a == "--quiet")
+      quiet = true;
     else if (a == "-h" || a == "--help") {
       usage(std::cout);
       return 0;
@@ -57,15 +65,18 @@ int main(int argc, char** argv) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   try {
     sgt::sim::ScenarioLoadOptions load;
     load.mesh_dir_override = mesh_dir;
     const sgt::sim::Scenario scenario = sgt::sim::loadScenario(scenario_path, load);
     if (!quiet)
-      std::cerr << "simulate: " << scenario_path << ": " << scenario.duration << " s, " << scenario.objects.size()
-                << " objects, " << scenario.distractors.size() << " distractors, static map "
-                << scenario.static_map->triangleCount() << " triangles (loaded in " << seconds() << " s)\n";
+      std::cerr << "simulate: " << scenario_path << ": " << scenario.duration << " s, "
+                << scenario.objects.size() << " objects, " << scenario.distractors.size()
+                << " distractors, static map " << scenario.static_map->triangleCount()
+                << " triangles (loaded in " << seconds() << " s)\n";
     sgt::ros::ScenarioBagOptions options;
     options.lz4 = lz4;
     int last_percent = -1;
@@ -75,17 +86,18 @@ int main(int argc, char** argv) {
       last_percent = percent;
       const int width = 40, filled = width * percent / 100;
       const double elapsed = seconds();
-      std::fprintf(stderr, "\r[%s%s] %3d%%  %zu/%zu stamps  %.1f s", std::string(filled, '#').c_str(),
-                   std::string(width - filled, '.').c_str(), percent, done, total, elapsed);
+      std::fprintf(stderr, "\r[%s%s] %3d%%  %zu/%zu stamps  %.1f s",
+                   std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+                   percent, done, total, elapsed);
       if (done == total) std::fputc('\n', stderr);
       std::fflush(stderr);
     };
-    const auto summary =
-        sgt::ros::writeScenarioBag(scenario, output, quiet ? sgt::ros::ProgressCallback() : progress, options);
+    const auto summary = sgt::ros::writeScenarioBag(
+        scenario, output, quiet ? sgt::ros::ProgressCallback() : progress, options);
     const double mb = static_cast<double>(std::filesystem::file_size(output)) / 1e6;
     std::cerr << "simulate: wrote " << output << " (" << summary.camera_frames << " camera frames, "
-              << summary.lidar_scans << " LiDAR scans, " << summary.hypotheses << " hypotheses, " << mb << " MB) in "
-              << seconds() << " s\n";
+              << summary.lidar_scans << " LiDAR scans, " << summary.hypotheses << " hypotheses, "
+              << mb << " MB) in " << seconds() << " s\n";
   } catch (const std::exception& e) {
     std::cerr << "simulate: " << e.what() << "\n";
     return 1;

@@ -6,7 +6,8 @@
 
 namespace sgt {
 
-double addError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true) {
+double addError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
+                const Eigen::Isometry3d& T_true) {
   if (pts.empty()) return 0.0;
   const Eigen::Isometry3f E = T_est.cast<float>(), T = T_true.cast<float>();
   double sum = 0.0;
@@ -14,7 +15,8 @@ double addError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d
   return sum / pts.size();
 }
 
-double addSError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true) {
+double addSError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
+                 const Eigen::Isometry3d& T_true) {
   if (pts.empty()) return 0.0;
   // In the true object frame: compare (T_true^-1 T_est) p against the model points themselves.
   const Eigen::Isometry3f rel = (T_true.inverse() * T_est).cast<float>();
@@ -28,15 +30,16 @@ double addSError(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3
   return sum / pts.size();
 }
 
-ModelSurface::ModelSurface(std::shared_ptr<const TriangleMesh> mesh) : mesh_(scene_.addMesh(std::move(mesh))) {}
+ModelSurface::ModelSurface(std::shared_ptr<const TriangleMesh> mesh)
+    : mesh_(scene_.addMesh(std::move(mesh))) {}
 
 float ModelSurface::distance(const Eigen::Vector3f& p, float radius) const {
   SurfacePoint closest;
   return scene_.closestPoint(mesh_, p, radius, closest) ? closest.distance : radius;
 }
 
-double addSError(const std::vector<Eigen::Vector3f>& pts, const ModelSurface& surface, const Eigen::Isometry3d& T_est,
-                 const Eigen::Isometry3d& T_true) {
+double addSError(const std::vector<Eigen::Vector3f>& pts, const ModelSurface& surface,
+                 const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true) {
   if (pts.empty()) return 0.0;
   const Eigen::Isometry3f rel = (T_true.inverse() * T_est).cast<float>();
   // Far enough for any point of a pose within a few diameters; beyond, the error is that large.
@@ -48,7 +51,8 @@ double addSError(const std::vector<Eigen::Vector3f>& pts, const ModelSurface& su
   return sum / pts.size();
 }
 
-double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_true) {
+double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est,
+                                 const Eigen::Matrix3d& R_true) {
   double deg = std::numeric_limits<double>::max();
   // A continuous symmetry leaves only the tilt of its axis observable: measure that exactly
   // rather than over the sampled twists (one continuous axis, as BOP's objects have).
@@ -63,17 +67,20 @@ double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d
     return deg;
   }
   for (const Eigen::Isometry3d& S : symmetry.sampled())
-    deg = std::min(deg, Eigen::AngleAxisd(R_est.transpose() * R_true * S.linear()).angle() * 180.0 / M_PI);
+    deg = std::min(
+        deg, Eigen::AngleAxisd(R_est.transpose() * R_true * S.linear()).angle() * 180.0 / M_PI);
   return deg;
 }
 
-PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts, const Eigen::Isometry3d& T_est,
-                      const Eigen::Isometry3d& T_true, const ModelSurface* surface) {
+PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts,
+                      const Eigen::Isometry3d& T_est, const Eigen::Isometry3d& T_true,
+                      const ModelSurface* surface) {
   PoseErrors e;
   e.translation = (T_est.translation() - T_true.translation()).norm();
   e.add_s = surface ? addSError(pts, *surface, T_est, T_true) : addSError(pts, T_est, T_true);
   e.add = std::numeric_limits<double>::max();
-  for (const Eigen::Isometry3d& S : object.symmetry.sampled()) e.add = std::min(e.add, addError(pts, T_est, T_true * S));
+  for (const Eigen::Isometry3d& S : object.symmetry.sampled())
+    e.add = std::min(e.add, addError(pts, T_est, T_true * S));
   e.rotation_deg = symmetricRotationErrorDeg(object.symmetry, T_est.linear(), T_true.linear());
   // ADD-S is the distance to the closest *surface* point; the closest of a few hundred samples
   // overestimates it by up to half their spacing (~1.5 cm on the KLT) when the estimate sits in a
@@ -94,8 +101,8 @@ PoseScorer::PoseScorer(const ObjectCatalog& catalog, std::size_t points) : catal
 
 PoseErrors PoseScorer::operator()(const std::string& class_name, const Eigen::Isometry3d& T_est,
                                   const Eigen::Isometry3d& T_true) const {
-  return poseErrors(catalog_.get(class_name), points_.at(class_name), T_est, T_true, surfaces_.at(class_name).get());
+  return poseErrors(catalog_.get(class_name), points_.at(class_name), T_est, T_true,
+                    surfaces_.at(class_name).get());
 }
 
 }  // namespace sgt
-

@@ -18,7 +18,8 @@ bool sameEdge(const sim::RelationSpec& d, const relations::Edge& e) {
 RelationCounts scoreRelations(double t, const std::vector<sim::RelationSpec>& declared,
                               const std::vector<relations::Edge>& predicted,
                               const std::map<std::string, std::string>& track_to_object,
-                              const std::set<std::string>& furniture, const RelationScoreOptions& o) {
+                              const std::set<std::string>& furniture,
+                              const RelationScoreOptions& o) {
   auto rename = [&](const std::string& name, std::string& out) {
     if (furniture.count(name)) return out = name, true;
     const auto it = track_to_object.find(name);
@@ -35,11 +36,13 @@ RelationCounts scoreRelations(double t, const std::vector<sim::RelationSpec>& de
   for (const auto& [track, object] : track_to_object) tracked.insert(object);
   std::set<std::pair<std::string, std::string>> pairs;
   std::set<relations::Relation> kinds;
-  for (const sim::RelationSpec& d : declared) pairs.emplace(d.subject, d.object), kinds.insert(d.relation);
+  for (const sim::RelationSpec& d : declared)
+    pairs.emplace(d.subject, d.object), kinds.insert(d.relation);
 
   RelationCounts c;
   for (const sim::RelationSpec& d : declared) {
-    const bool judged = tracked.count(d.subject) && (tracked.count(d.object) || furniture.count(d.object));
+    const bool judged =
+        tracked.count(d.subject) && (tracked.count(d.object) || furniture.count(d.object));
     if (!judged || !d.activeAt(t) || nearBoundary(d, t, o.grace)) continue;
     bool found = false;
     for (const relations::Edge& e : renamed) found = found || sameEdge(d, e);
@@ -49,7 +52,8 @@ RelationCounts scoreRelations(double t, const std::vector<sim::RelationSpec>& de
     if (!kinds.count(e.relation) || !pairs.count({e.subject, e.object})) continue;
     bool active = false, near = false;
     for (const sim::RelationSpec& d : declared)
-      if (sameEdge(d, e)) active = active || d.activeAt(t), near = near || nearBoundary(d, t, o.grace);
+      if (sameEdge(d, e))
+        active = active || d.activeAt(t), near = near || nearBoundary(d, t, o.grace);
     if (!active && !near) ++c.fp;
   }
   return c;

@@ -65,10 +65,13 @@ struct ObjectStats {
 
 }  // namespace
 
-void EvaluationReport::addFrame(double stamp, const StageTimes& times) { frames_.push_back({stamp, times, {}, {}}); }
+void EvaluationReport::addFrame(double stamp, const StageTimes& times) {
+  frames_.push_back({stamp, times, {}, {}});
+}
 
-void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls, const std::string& track,
-                                 const std::optional<PoseErrors>& e, bool in_view) {
+void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
+                                 const std::string& track, const std::optional<PoseErrors>& e,
+                                 bool in_view) {
   objects_.push_back({stamp, id, cls, e, in_view});
   if (!in_view) return;
   if (track.empty()) return;
@@ -77,24 +80,28 @@ void EvaluationReport::addObject(double stamp, const std::string& id, const std:
   last = track;
 }
 
-void EvaluationReport::addFalsePositive(double stamp, const std::string& track_id, const std::string& class_name) {
+void EvaluationReport::addFalsePositive(double stamp, const std::string& track_id,
+                                        const std::string& class_name) {
   false_positives_.push_back({stamp, track_id, class_name});
 }
 
 std::string EvaluationReport::falsePositivesJson() const {
   std::set<std::string> tracks;
   std::map<std::string, std::size_t> by_class;
-  for (const FalsePositiveRow& f : false_positives_) tracks.insert(f.track_id), ++by_class[f.class_name];
+  for (const FalsePositiveRow& f : false_positives_)
+    tracks.insert(f.track_id), ++by_class[f.class_name];
   std::ostringstream o;
-  o << ",\n    \"false_positives\": " << false_positives_.size() << ",\n    \"false_tracks\": " << tracks.size()
-    << ",\n    \"false_positives_by_class\": {";
+  o << ",\n    \"false_positives\": " << false_positives_.size()
+    << ",\n    \"false_tracks\": " << tracks.size() << ",\n    \"false_positives_by_class\": {";
   bool first = true;
-  for (const auto& [c, n] : by_class) o << (first ? "" : ", ") << "\"" << c << "\": " << n, first = false;
+  for (const auto& [c, n] : by_class)
+    o << (first ? "" : ", ") << "\"" << c << "\": " << n, first = false;
   o << "}";
   return o.str();
 }
 
-void EvaluationReport::addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest) {
+void EvaluationReport::addHypothesis(const std::string& truth_id,
+                                     const std::optional<PoseErrors>& nearest) {
   HypothesisCounts& c = hypotheses_[truth_id];
   ++c.evaluated;
   if (!nearest) return;
@@ -106,10 +113,16 @@ std::string EvaluationReport::hypothesesJson() const {
   if (hypotheses_.empty()) return "";
   const auto fields = [](const HypothesisCounts& c, const std::string& indent) {
     std::ostringstream o;
-    o << indent << "\"evaluated\": " << c.evaluated << ",\n" << indent << "\"found\": " << c.found << ",\n"
-      << indent << "\"recall\": " << num(c.evaluated ? static_cast<double>(c.found) / c.evaluated : NAN) << ",\n"
-      << indent << "\"translation_error_median_mm\": " << num(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << ",\n"
-      << indent << "\"rotation_error_median_deg\": " << num(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
+    o << indent << "\"evaluated\": " << c.evaluated << ",\n"
+      << indent << "\"found\": " << c.found << ",\n"
+      << indent
+      << "\"recall\": " << num(c.evaluated ? static_cast<double>(c.found) / c.evaluated : NAN)
+      << ",\n"
+      << indent
+      << "\"translation_error_median_mm\": " << num(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5))
+      << ",\n"
+      << indent
+      << "\"rotation_error_median_deg\": " << num(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
     return o.str();
   };
   HypothesisCounts all;
@@ -122,7 +135,9 @@ std::string EvaluationReport::hypothesesJson() const {
   o << "  \"hypotheses\": {\n" << fields(all, "    ") << ",\n    \"per_object\": {";
   bool first = true;
   for (const auto& [id, c] : hypotheses_)
-    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n" << fields(c, "        ") << "\n      }", first = false;
+    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n"
+      << fields(c, "        ") << "\n      }",
+        first = false;
   o << "\n    }\n  },\n";
   return o.str();
 }
@@ -130,20 +145,22 @@ std::string EvaluationReport::hypothesesJson() const {
 std::string EvaluationReport::hypothesesMarkdown() const {
   if (hypotheses_.empty()) return "";
   std::ostringstream o;
-  o << std::fixed
-    << "\nPose hypotheses (nearest of the class within the gate, true base pose):\n\n"
-    << "| object | frames in view | with a hypothesis | share | t mm median | R deg median |\n|---|---|---|---|---|---|\n";
+  o << std::fixed << "\nPose hypotheses (nearest of the class within the gate, true base pose):\n\n"
+    << "| object | frames in view | with a hypothesis | share | t mm median | R deg median "
+       "|\n|---|---|---|---|---|---|\n";
   const auto median = [](const std::vector<double>& v) {
     std::ostringstream m;
     m << std::fixed << std::setprecision(1);
-    if (v.empty()) m << "–";  // no hypothesis came within the gate
-    else m << quantile(v, 0.5);
+    if (v.empty())
+      m << "–";  // no hypothesis came within the gate
+    else
+      m << quantile(v, 0.5);
     return m.str();
   };
   for (const auto& [id, c] : hypotheses_)
     o << "| " << id << " | " << c.evaluated << " | " << c.found << " | " << std::setprecision(3)
-      << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << " | " << median(c.t_mm) << " | "
-      << median(c.r_deg) << " |\n";
+      << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << " | " << median(c.t_mm)
+      << " | " << median(c.r_deg) << " |\n";
   return o.str();
 }
 
@@ -169,50 +186,65 @@ std::string EvaluationReport::json() const {
   ObjectStats all;
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
-  for (const ObjectRow& r : objects_) all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
+  for (const ObjectRow& r : objects_)
+    all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
   std::vector<double> lt, lr, total, loc, refine, preseg, detect, relations;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
     total.push_back(f.times.total_ms);
     if (f.times.detect_ms > 0) detect.push_back(f.times.detect_ms);
-    if (f.times.localize_ms > 0.05) loc.push_back(f.times.localize_ms);  // frames that localized (with a scan)
+    if (f.times.localize_ms > 0.05)
+      loc.push_back(f.times.localize_ms);  // frames that localized (with a scan)
     refine.push_back(f.times.refine_ms), preseg.push_back(f.times.presegment_ms);
     relations.push_back(f.times.relations_ms);
   }
-  const auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : NAN; };
+  const auto ratio = [](std::size_t a, std::size_t b) {
+    return b ? static_cast<double>(a) / b : NAN;
+  };
   std::ostringstream o;
   int switches = 0;
   for (const auto& [id, n] : switches_) switches += n;
-  o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n" << all.json("    ")
-    << ",\n    \"identity_switches\": " << switches << falsePositivesJson() << ",\n    \"per_object\": {";
+  o << "{\n  \"frames\": " << frames_.size() << ",\n  \"objects\": {\n"
+    << all.json("    ") << ",\n    \"identity_switches\": " << switches << falsePositivesJson()
+    << ",\n    \"per_object\": {";
   bool first = true;
   for (const auto& [id, s] : per) {
     const auto sw = switches_.find(id);
-    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n        \"class\": \"" << cls[id] << "\",\n"
-      << "        \"identity_switches\": " << (sw == switches_.end() ? 0 : sw->second) << ",\n" << s.json("        ")
-      << "\n      }";
+    o << (first ? "\n" : ",\n") << "      \"" << id << "\": {\n        \"class\": \"" << cls[id]
+      << "\",\n"
+      << "        \"identity_switches\": " << (sw == switches_.end() ? 0 : sw->second) << ",\n"
+      << s.json("        ") << "\n      }";
     first = false;
   }
-  o << "\n    }\n  },\n" << hypothesesJson()
-    << "  \"localization\": {\n    \"frames\": " << lt.size() << ",\n    \"translation_error_mean_mm\": " << num(mean(lt))
-    << ",\n    \"rotation_error_mean_deg\": " << num(mean(lr)) << ",\n    \"translation_error_max_mm\": "
+  o << "\n    }\n  },\n"
+    << hypothesesJson() << "  \"localization\": {\n    \"frames\": " << lt.size()
+    << ",\n    \"translation_error_mean_mm\": " << num(mean(lt))
+    << ",\n    \"rotation_error_mean_deg\": " << num(mean(lr))
+    << ",\n    \"translation_error_max_mm\": "
     << num(lt.empty() ? NAN : *std::max_element(lt.begin(), lt.end())) << "\n  },\n"
     << "  \"presegmentation\": {\n    \"reduction\": "
-    << num(labels_.lidar_valid ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid : NAN)
+    << num(labels_.lidar_valid
+               ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid
+               : NAN)
     << ",\n    \"precision\": " << num(ratio(labels_.tp, labels_.tp + labels_.fp))
     << ",\n    \"recall\": " << num(ratio(labels_.tp, labels_.tp + labels_.fn))
-    << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown
-    << "\n  },\n";
+    << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid
+    << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown << "\n  },\n";
   if (relation_frames_ > 0)
-    o << "  \"relations\": {\n    \"precision\": " << num(ratio(relations_.tp, relations_.tp + relations_.fp))
+    o << "  \"relations\": {\n    \"precision\": "
+      << num(ratio(relations_.tp, relations_.tp + relations_.fp))
       << ",\n    \"recall\": " << num(ratio(relations_.tp, relations_.tp + relations_.fn))
-      << ",\n    \"true_positives\": " << relations_.tp << ",\n    \"false_positives\": " << relations_.fp
-      << ",\n    \"false_negatives\": " << relations_.fn << ",\n    \"frames\": " << relation_frames_
-      << ",\n    \"declared\": " << declared_relations_ << "\n  },\n";
-  o << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5)) << ",\n    \"frame_ms_p95\": "
-    << num(quantile(total, 0.95)) << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
-    << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5)) << ",\n    \"presegment_ms_median\": "
-    << num(quantile(preseg, 0.5)) << ",\n    \"relations_ms_median\": " << num(quantile(relations, 0.5))
+      << ",\n    \"true_positives\": " << relations_.tp
+      << ",\n    \"false_positives\": " << relations_.fp
+      << ",\n    \"false_negatives\": " << relations_.fn
+      << ",\n    \"frames\": " << relation_frames_ << ",\n    \"declared\": " << declared_relations_
+      << "\n  },\n";
+  o << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5))
+    << ",\n    \"frame_ms_p95\": " << num(quantile(total, 0.95))
+    << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
+    << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5))
+    << ",\n    \"presegment_ms_median\": " << num(quantile(preseg, 0.5))
+    << ",\n    \"relations_ms_median\": " << num(quantile(relations, 0.5))
     << ",\n    \"detect_ms_median\": " << num(quantile(detect, 0.5)) << "\n  }\n}\n";
   return o.str();
 }
@@ -221,25 +253,29 @@ std::string EvaluationReport::markdown() const {
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
   ObjectStats all;
-  for (const ObjectRow& r : objects_) all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
+  for (const ObjectRow& r : objects_)
+    all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
   std::ostringstream o;
   o << std::fixed << std::setprecision(2);
-  o << "| object | class | frames | missed | out of view | ADD-S mm | ADD mm | t mm | R deg | recall ADD-S<0.1d |\n"
+  o << "| object | class | frames | missed | out of view | ADD-S mm | ADD mm | t mm | R deg | "
+       "recall ADD-S<0.1d |\n"
     << "|---|---|---|---|---|---|---|---|---|---|\n";
   const auto row = [&](const std::string& id, const std::string& c, const ObjectStats& s) {
-    o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | " << s.out_of_view << " | "
-      << mean(s.add_s) << " | " << mean(s.add) << " | " << mean(s.t) << " | " << mean(s.r) << " | "
-      << std::setprecision(3) << s.recall() << std::setprecision(2) << " |\n";  // the goal is 0.99: 3 digits
+    o << "| " << id << " | " << c << " | " << s.evaluated << " | " << s.missed << " | "
+      << s.out_of_view << " | " << mean(s.add_s) << " | " << mean(s.add) << " | " << mean(s.t)
+      << " | " << mean(s.r) << " | " << std::setprecision(3) << s.recall() << std::setprecision(2)
+      << " |\n";  // the goal is 0.99: 3 digits
   };
   for (const auto& [id, s] : per) row(id, cls[id], s);
   row("**all**", "", all);
   if (!false_positives_.empty()) {
     std::map<std::string, std::set<std::string>> tracks;
     for (const FalsePositiveRow& f : false_positives_) tracks[f.class_name].insert(f.track_id);
-    o << "\nFalse positives (tracks in the scene graph matched to no object): " << false_positives_.size()
-      << " track-frames of";
+    o << "\nFalse positives (tracks in the scene graph matched to no object): "
+      << false_positives_.size() << " track-frames of";
     const char* sep = " ";
-    for (const auto& [c, ids] : tracks) o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
+    for (const auto& [c, ids] : tracks)
+      o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
     o << ".\n";
   }
   o << hypothesesMarkdown();
@@ -248,17 +284,26 @@ std::string EvaluationReport::markdown() const {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
     total.push_back(f.times.total_ms);
   }
-  o << "\n| localization t mm | R deg | pre-seg. reduction | precision | recall | frame ms median | p95 |\n"
-    << "|---|---|---|---|---|---|---|\n| " << mean(lt) << " | " << std::setprecision(3) << mean(lr) << " | "
-    << (labels_.lidar_valid ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid : 0.0) << " | "
-    << (labels_.tp + labels_.fp ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fp) : 0.0) << " | "
-    << (labels_.tp + labels_.fn ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fn) : 0.0) << " | "
-    << std::setprecision(1) << quantile(total, 0.5) << " | " << quantile(total, 0.95) << " |\n";
+  o << "\n| localization t mm | R deg | pre-seg. reduction | precision | recall | frame ms median "
+       "| p95 |\n"
+    << "|---|---|---|---|---|---|---|\n| " << mean(lt) << " | " << std::setprecision(3) << mean(lr)
+    << " | "
+    << (labels_.lidar_valid ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid
+                            : 0.0)
+    << " | "
+    << (labels_.tp + labels_.fp ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fp) : 0.0)
+    << " | "
+    << (labels_.tp + labels_.fn ? static_cast<double>(labels_.tp) / (labels_.tp + labels_.fn) : 0.0)
+    << " | " << std::setprecision(1) << quantile(total, 0.5) << " | " << quantile(total, 0.95)
+    << " |\n";
   if (relation_frames_ > 0) {
-    const auto share = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / b : 0.0; };
-    o << "\n| relations precision | recall | tp | fp | fn |\n|---|---|---|---|---|\n| " << std::setprecision(3)
-      << share(relations_.tp, relations_.tp + relations_.fp) << " | " << share(relations_.tp, relations_.tp + relations_.fn)
-      << " | " << relations_.tp << " | " << relations_.fp << " | " << relations_.fn << " |\n";
+    const auto share = [](std::size_t a, std::size_t b) {
+      return b ? static_cast<double>(a) / b : 0.0;
+    };
+    o << "\n| relations precision | recall | tp | fp | fn |\n|---|---|---|---|---|\n| "
+      << std::setprecision(3) << share(relations_.tp, relations_.tp + relations_.fp) << " | "
+      << share(relations_.tp, relations_.tp + relations_.fn) << " | " << relations_.tp << " | "
+      << relations_.fp << " | " << relations_.fn << " |\n";
   }
   return o.str();
 }
@@ -266,17 +311,20 @@ std::string EvaluationReport::markdown() const {
 std::string EvaluationReport::timeseriesCsv() const {
   std::ostringstream o;
   o << std::setprecision(15);  // stamps are ~1.7e9 s: keep the milliseconds
-  o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,presegment_ms,total_ms,"
+  o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
+       "presegment_ms,total_ms,"
        "loc_t_mm,loc_r_deg\n";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
-      << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "") << ",,,,,,,\n";
+      << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "")
+      << ",,,,,,,\n";
   for (const FalsePositiveRow& f : false_positives_)
-    o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,\n";
+    o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name
+      << ",,,,,,,,,,,\n";
   for (const FrameRow& f : frames_)
-    o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms << ","
-      << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
+    o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms
+      << "," << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
       << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << "\n";
   return o.str();
 }

@@ -64,9 +64,12 @@ class FrameStream {
 };
 
 void FrameStream::readTruth(rosbag::Bag& bag) {
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.truth_objects, topics_.truth_base})))) {
-    if (auto o = mi.instantiate<scene_graph_tracker::ObjectPoseArray>()) truth_objects_[key(o->header.stamp)] = o;
-    if (auto b = mi.instantiate<geometry_msgs::PoseStamped>()) truth_base_[key(b->header.stamp)] = b;
+  for (const rosbag::MessageInstance& mi : rosbag::View(
+           bag, rosbag::TopicQuery(topicList({topics_.truth_objects, topics_.truth_base})))) {
+    if (auto o = mi.instantiate<scene_graph_tracker::ObjectPoseArray>())
+      truth_objects_[key(o->header.stamp)] = o;
+    if (auto b = mi.instantiate<geometry_msgs::PoseStamped>())
+      truth_base_[key(b->header.stamp)] = b;
   }
 }
 
@@ -120,8 +123,8 @@ void FrameStream::emit() {
     if (read_rgb_) attachRgb(bf, k);
     attachTruth(bf, k, a.cloud);
   } catch (const std::exception& e) {  // the frame is not usable without its depth image
-    bf.warnings.push_back(std::string("depth image at ") + std::to_string(pending_->header.stamp.toSec()) +
-                          " skipped: " + e.what());
+    bf.warnings.push_back(std::string("depth image at ") +
+                          std::to_string(pending_->header.stamp.toSec()) + " skipped: " + e.what());
     warnings_ = std::move(bf.warnings);
     pending_.reset();
     return;
@@ -137,24 +140,30 @@ void FrameStream::attachRgb(BagFrame& bf, Stamp k) {
       RgbFrame rgb;
       rgb.camera = toPinhole(*rgb_info_);
       rgb.rgb = rgbFromImage(*c->second, rgb.camera);
-      rgb.T_base_camera = assembler_.lookup(topics_.base_frame, c->second->header.frame_id, c->second->header.stamp);
+      rgb.T_base_camera = assembler_.lookup(topics_.base_frame, c->second->header.frame_id,
+                                            c->second->header.stamp);
       bf.rgb = std::move(rgb);
     } catch (const std::exception& e) {
-      bf.warnings.push_back("colour image at " + std::to_string(bf.frame.stamp) + " skipped: " + e.what());
+      bf.warnings.push_back("colour image at " + std::to_string(bf.frame.stamp) +
+                            " skipped: " + e.what());
     }
   }
   rgbs_.erase(rgbs_.begin(), rgbs_.upper_bound(k));
 }
 
-void FrameStream::attachTruth(BagFrame& bf, Stamp k, const sensor_msgs::PointCloud2::ConstPtr& scan) {
+void FrameStream::attachTruth(BagFrame& bf, Stamp k,
+                              const sensor_msgs::PointCloud2::ConstPtr& scan) {
   if (auto o = truth_objects_.find(k); o != truth_objects_.end()) {
     GroundTruth gt;
-    for (const auto& obj : o->second->objects) gt.objects.push_back({obj.id, obj.class_name, toEigen(obj.pose)});
-    if (auto b = truth_base_.find(k); b != truth_base_.end()) gt.T_map_base = toEigen(b->second->pose);
+    for (const auto& obj : o->second->objects)
+      gt.objects.push_back({obj.id, obj.class_name, toEigen(obj.pose)});
+    if (auto b = truth_base_.find(k); b != truth_base_.end())
+      gt.T_map_base = toEigen(b->second->pose);
     gt.labels.push_back(depth_labels_.count(k) ? depth_labels_[k] : std::vector<std::uint8_t>{});
     if (scan) {
       const Stamp ks = key(scan->header.stamp);
-      gt.labels.push_back(lidar_labels_.count(ks) ? lidar_labels_[ks] : std::vector<std::uint8_t>{});
+      gt.labels.push_back(lidar_labels_.count(ks) ? lidar_labels_[ks]
+                                                  : std::vector<std::uint8_t>{});
     }
     bf.truth = std::move(gt);
   }
@@ -163,11 +172,14 @@ void FrameStream::attachTruth(BagFrame& bf, Stamp k, const sensor_msgs::PointClo
 
 }  // namespace
 
-BagFrameReader::BagFrameReader(const std::string& path, const BagTopics& topics) : path_(path), topics_(topics) {
+BagFrameReader::BagFrameReader(const std::string& path, const BagTopics& topics)
+    : path_(path), topics_(topics) {
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   const ::ros::Time begin = rosbag::View(bag).getBeginTime(), end = rosbag::View(bag).getEndTime();
-  tf_ = std::make_unique<tf2::BufferCore>(::ros::Duration(std::max(10.0, (end - begin).toSec() + 10.0)));
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({"/tf", "/tf_static"})))) {
+  tf_ = std::make_unique<tf2::BufferCore>(
+      ::ros::Duration(std::max(10.0, (end - begin).toSec() + 10.0)));
+  for (const rosbag::MessageInstance& mi :
+       rosbag::View(bag, rosbag::TopicQuery(topicList({"/tf", "/tf_static"})))) {
     const auto tf = mi.instantiate<tf2_msgs::TFMessage>();
     if (!tf) continue;
     const bool is_static = mi.getTopic() == "/tf_static";
@@ -176,7 +188,8 @@ BagFrameReader::BagFrameReader(const std::string& path, const BagTopics& topics)
   depth_count_ = rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.depth}))).size();
   if (depth_count_ == 0) throw std::runtime_error(path + ": no depth images on " + topics_.depth);
   has_truth_ = rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.truth_objects}))).size() > 0;
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.map_odom_prior}))))
+  for (const rosbag::MessageInstance& mi :
+       rosbag::View(bag, rosbag::TopicQuery(topicList({topics_.map_odom_prior}))))
     if (const auto t = mi.instantiate<geometry_msgs::TransformStamped>()) {
       map_odom_prior_ = toEigen(t->transform);
       break;
@@ -198,14 +211,17 @@ void BagFrameReader::forEach(const std::function<void(BagFrame&)>& f) {
   rosbag::Bag bag(path_, rosbag::bagmode::Read);
   FrameAssemblerOptions options = assembler_options_;
   options.odom_frame = topics_.odom_frame, options.base_frame = topics_.base_frame;
-  FrameAssembler assembler(options, [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
-    return toEigen(tf_->lookupTransform(target, source, t).transform);
-  });
+  FrameAssembler assembler(
+      options, [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
+        return toEigen(tf_->lookupTransform(target, source, t).transform);
+      });
   FrameStream stream(topics_, read_rgb_, assembler, f);
   stream.readTruth(bag);
-  const auto topics = topicList({topics_.depth, topics_.depth_info, topics_.lidar, topics_.hypotheses,
-                                 topics_.truth_depth_labels, topics_.truth_lidar_labels, topics_.rgb, topics_.rgb_info});
-  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topics))) stream.onMessage(mi);
+  const auto topics = topicList({topics_.depth, topics_.depth_info, topics_.lidar,
+                                 topics_.hypotheses, topics_.truth_depth_labels,
+                                 topics_.truth_lidar_labels, topics_.rgb, topics_.rgb_info});
+  for (const rosbag::MessageInstance& mi : rosbag::View(bag, rosbag::TopicQuery(topics)))
+    stream.onMessage(mi);
   stream.finish();
 }
 

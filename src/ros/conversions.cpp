@@ -32,8 +32,10 @@ Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
 geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
   geometry_msgs::Pose p;
   const Eigen::Quaterniond q(T.linear());
-  p.position.x = T.translation().x(), p.position.y = T.translation().y(), p.position.z = T.translation().z();
-  p.orientation.w = q.w(), p.orientation.x = q.x(), p.orientation.y = q.y(), p.orientation.z = q.z();
+  p.position.x = T.translation().x(), p.position.y = T.translation().y(),
+  p.position.z = T.translation().z();
+  p.orientation.w = q.w(), p.orientation.x = q.x(), p.orientation.y = q.y(),
+  p.orientation.z = q.z();
   return p;
 }
 
@@ -46,7 +48,8 @@ geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
 }
 
 PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min, float range_max) {
-  if (info.width == 0 || info.height == 0) throw ConversionError("camera_info has a zero image size");
+  if (info.width == 0 || info.height == 0)
+    throw ConversionError("camera_info has a zero image size");
   if (!(info.K[0] > 0.0) || !(info.K[4] > 0.0))
     throw ConversionError("camera_info has no focal length (K[0] = " + std::to_string(info.K[0]) +
                           ", K[4] = " + std::to_string(info.K[4]) + ")");
@@ -71,15 +74,19 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam) {
 std::vector<float> depthFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
   namespace enc = sensor_msgs::image_encodings;
   if (static_cast<int>(img.width) != cam.width || static_cast<int>(img.height) != cam.height)
-    throw ConversionError("depth image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                          " but camera_info says " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
-  const bool f32 = img.encoding == enc::TYPE_32FC1, u16 = img.encoding == enc::TYPE_16UC1 || img.encoding == enc::MONO16;
+    throw ConversionError("depth image is " + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " but camera_info says " +
+                          std::to_string(cam.width) + "x" + std::to_string(cam.height));
+  const bool f32 = img.encoding == enc::TYPE_32FC1,
+             u16 = img.encoding == enc::TYPE_16UC1 || img.encoding == enc::MONO16;
   if (!f32 && !u16)
-    throw ConversionError("depth image encoding '" + img.encoding + "' is not supported (use 32FC1 m or 16UC1 mm)");
+    throw ConversionError("depth image encoding '" + img.encoding +
+                          "' is not supported (use 32FC1 m or 16UC1 mm)");
   const std::size_t bpp = f32 ? 4 : 2, w = img.width, h = img.height;
   if (img.step < w * bpp || img.data.size() < img.step * h)
     throw ConversionError("depth image data is too short: step " + std::to_string(img.step) + ", " +
-                          std::to_string(img.data.size()) + " bytes for " + std::to_string(w) + "x" + std::to_string(h));
+                          std::to_string(img.data.size()) + " bytes for " + std::to_string(w) +
+                          "x" + std::to_string(h));
   if (img.is_bigendian) throw ConversionError("big-endian depth images are not supported");
   std::vector<float> depth(w * h);
   for (std::size_t y = 0; y < h; ++y) {
@@ -110,7 +117,8 @@ sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, in
   return img;
 }
 
-std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud, const SpinningLidarModel& model) {
+std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                   const SpinningLidarModel& model) {
   bool has[3] = {false, false, false};
   for (const auto& f : cloud.fields)
     for (int k = 0; k < 3; ++k)
@@ -119,7 +127,8 @@ std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud, const 
           throw ConversionError("point cloud field '" + f.name + "' is not float32");
         has[k] = true;
       }
-  if (!has[0] || !has[1] || !has[2]) throw ConversionError("point cloud has no x, y, z float32 fields");
+  if (!has[0] || !has[1] || !has[2])
+    throw ConversionError("point cloud has no x, y, z float32 fields");
   const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
   if (cloud.data.size() < n * cloud.point_step)
     throw ConversionError("point cloud data is shorter than width x height x point_step");
@@ -134,8 +143,10 @@ std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud, const 
     if (!std::isfinite(r) || r <= 0.0f) continue;
     std::size_t cell = i;
     if (!organized) {
-      const int ring = static_cast<int>(std::lround((std::atan2(*z, std::hypot(*x, *y)) - model.phi_min) / phi_inc));
-      int col = static_cast<int>(std::lround((std::atan2(*y, *x) - model.theta_min) / model.theta_inc));
+      const int ring = static_cast<int>(
+          std::lround((std::atan2(*z, std::hypot(*x, *y)) - model.phi_min) / phi_inc));
+      int col =
+          static_cast<int>(std::lround((std::atan2(*y, *x) - model.theta_min) / model.theta_inc));
       col = ((col % model.columns) + model.columns) % model.columns;
       if (ring < 0 || ring >= model.rings) continue;
       cell = static_cast<std::size_t>(ring) * model.columns + col;
@@ -150,17 +161,20 @@ sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const
   sensor_msgs::PointCloud2 cloud;
   cloud.height = rays.height, cloud.width = rays.width;
   sensor_msgs::PointCloud2Modifier mod(cloud);
-  mod.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z",
-                           1, sensor_msgs::PointField::FLOAT32, "intensity", 1, sensor_msgs::PointField::FLOAT32,
-                           "ring", 1, sensor_msgs::PointField::UINT16);
+  mod.setPointCloud2Fields(
+      5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "intensity", 1, sensor_msgs::PointField::FLOAT32, "ring", 1,
+      sensor_msgs::PointField::UINT16);
   cloud.is_dense = false;
-  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"), in(cloud, "intensity");
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
+      in(cloud, "intensity");
   sensor_msgs::PointCloud2Iterator<std::uint16_t> ring(cloud, "ring");
   for (std::size_t i = 0; i < ranges.size(); ++i, ++x, ++y, ++z, ++in, ++ring) {
     const float r = ranges[i];
     const bool ok = std::isfinite(r) && r > 0.0f;
-    const Eigen::Vector3f p = ok ? Eigen::Vector3f(rays.directions[i] * r)
-                                 : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+    const Eigen::Vector3f p =
+        ok ? Eigen::Vector3f(rays.directions[i] * r)
+           : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
     *x = p.x(), *y = p.y(), *z = p.z();
     *in = i < intensity.size() ? intensity[i] : 0.0f;
     *ring = static_cast<std::uint16_t>(i / rays.width);
@@ -170,13 +184,16 @@ sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const
 
 cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
   namespace enc = sensor_msgs::image_encodings;
-  if (img.width == 0 || img.height == 0 || img.data.empty()) throw ConversionError("colour image is empty");
+  if (img.width == 0 || img.height == 0 || img.data.empty())
+    throw ConversionError("colour image is empty");
   if (static_cast<int>(img.width) != cam.width || static_cast<int>(img.height) != cam.height)
-    throw ConversionError("colour image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                          " but its camera_info says " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+    throw ConversionError("colour image is " + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " but its camera_info says " +
+                          std::to_string(cam.width) + "x" + std::to_string(cam.height));
   if (img.encoding != enc::RGB8 && img.encoding != enc::BGR8 && img.encoding != enc::RGBA8 &&
       img.encoding != enc::BGRA8 && img.encoding != enc::MONO8)
-    throw ConversionError("colour image encoding '" + img.encoding + "' is not supported (use rgb8, bgr8, rgba8, bgra8 or mono8)");
+    throw ConversionError("colour image encoding '" + img.encoding +
+                          "' is not supported (use rgb8, bgr8, rgba8, bgra8 or mono8)");
   try {
     return cv_bridge::toCvCopy(img, enc::RGB8)->image;
   } catch (const cv_bridge::Exception& e) {

@@ -1,11 +1,11 @@
 #include "scene_graph_tracker/ros/detector_nodelet.hpp"
 
-#include <boost/bind/bind.hpp>
 #include <cv_bridge/cv_bridge.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 
+#include <boost/bind/bind.hpp>
 #include <cstdio>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/ros/closest_in_time.hpp"
@@ -28,8 +28,10 @@ void DetectorNodelet::onInit() {
     throw;
   }
   for (const std::string& name : unknown)
-    NODELET_WARN("detector: ~%s is no parameter of the detector (ignored; see README \"Detector parameters\")",
-                 name.c_str());
+    NODELET_WARN(
+        "detector: ~%s is no parameter of the detector (ignored; see README \"Detector "
+        "parameters\")",
+        name.c_str());
   const std::string& model = p.model;
   const std::string& catalog_path = p.catalog;
   const std::string& mesh_dir = p.mesh_dir;
@@ -45,16 +47,18 @@ void DetectorNodelet::onInit() {
     return;
   }
   const auto& info = detector_->keypoints().info();
-  NODELET_INFO("detector: %s (%dx%d input, %zu classes), score >= %.2f", info.onnx_path.c_str(), info.input_width,
-               info.input_height, info.names.size(), decode.score_threshold);
+  NODELET_INFO("detector: %s (%dx%d input, %zu classes), score >= %.2f", info.onnx_path.c_str(),
+               info.input_width, info.input_height, info.names.size(), decode.score_threshold);
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   depth_max_offset_ = p.depth_max_offset;
   if (p.use_depth) depth_sub_ = nh.subscribe("depth", 3, &DetectorNodelet::onDepth, this);
   image_sub_.subscribe(nh, "image", 2);
   info_sub_.subscribe(nh, "camera_info", 2);
-  sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_, info_sub_);
-  sync_->registerCallback(boost::bind(&DetectorNodelet::onImage, this, boost::placeholders::_1, boost::placeholders::_2));
+  sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_,
+                                                                      info_sub_);
+  sync_->registerCallback(boost::bind(&DetectorNodelet::onImage, this, boost::placeholders::_1,
+                                      boost::placeholders::_2));
 }
 
 void DetectorNodelet::warn(const std::string& text) {
@@ -66,7 +70,8 @@ void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
   pushRecent(depth_images_, depth, 5);
 }
 
-std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp, const PinholeModel& camera) {
+std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp,
+                                                                    const PinholeModel& camera) {
   if (!depth_sub_) return nullptr;
   sensor_msgs::ImageConstPtr best;
   {
@@ -77,19 +82,22 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
     char within[32];
     std::snprintf(within, sizeof within, "%.3g s", depth_max_offset_);
     warn("no depth image on '" + depth_sub_.getTopic() + "' within " + within +
-         " of the RGB image: distances from PnP alone (set use_depth false if there is no registered depth)");
+         " of the RGB image: distances from PnP alone (set use_depth false if there is no "
+         "registered depth)");
     return nullptr;
   }
   try {  // registered: the depth image has the RGB camera's size and intrinsics
     return std::make_unique<RangeMeasurements>(fromDepthImage(camera, depth_rays_.rays(camera),
-                                                               depthFromImage(*best, camera), Eigen::Isometry3d::Identity()));
+                                                              depthFromImage(*best, camera),
+                                                              Eigen::Isometry3d::Identity()));
   } catch (const std::exception& e) {
     warn(std::string("depth image not used (it must be registered to the RGB image): ") + e.what());
     return nullptr;
   }
 }
 
-void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info) {
+void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
+                              const sensor_msgs::CameraInfoConstPtr& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<detection::ObjectDetection> detections;
   cv::Mat rgb;

@@ -28,11 +28,13 @@ void FrameAssembler::addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud) {
   if (cloud) pushRecent(clouds_, cloud, options_.max_buffered_clouds);
 }
 
-void FrameAssembler::addHypotheses(const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses) {
+void FrameAssembler::addHypotheses(
+    const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses) {
   if (hypotheses) pushRecent(hypotheses_, hypotheses, options_.max_buffered_hypotheses);
 }
 
-AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth, const sensor_msgs::CameraInfo& info) {
+AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth,
+                                        const sensor_msgs::CameraInfo& info) {
   AssembledFrame out;
   out.frame.stamp = depth.header.stamp.toSec();
   addDepth(out, depth, info);
@@ -46,19 +48,21 @@ void FrameAssembler::addDepth(AssembledFrame& out, const sensor_msgs::Image& dep
   const PinholeModel cam = toPinhole(info);
   const ::ros::Time& stamp = depth.header.stamp;
   out.frame.T_odom_base = lookup_(options_.odom_frame, options_.base_frame, stamp);
-  out.frame.measurements.push_back(fromDepthImage(cam, camera_rays_.rays(cam), depthFromImage(depth, cam),
-                                                  lookup_(options_.odom_frame, depth.header.frame_id, stamp),
-                                                  depth.header.frame_id));
+  out.frame.measurements.push_back(fromDepthImage(
+      cam, camera_rays_.rays(cam), depthFromImage(depth, cam),
+      lookup_(options_.odom_frame, depth.header.frame_id, stamp), depth.header.frame_id));
 }
 
 void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth) {
   const ::ros::Time& stamp = depth.header.stamp;
-  const Eigen::Isometry3d T_base_camera = lookup_(options_.base_frame, depth.header.frame_id, stamp);
+  const Eigen::Isometry3d T_base_camera =
+      lookup_(options_.base_frame, depth.header.frame_id, stamp);
   const auto best = closestInTime(hypotheses_, stamp, options_.hypothesis_max_age);
   if (best) {
-    const Eigen::Isometry3d T_base_frame = best->header.frame_id == depth.header.frame_id
-                                               ? T_base_camera
-                                               : lookup_(options_.base_frame, best->header.frame_id, best->header.stamp);
+    const Eigen::Isometry3d T_base_frame =
+        best->header.frame_id == depth.header.frame_id
+            ? T_base_camera
+            : lookup_(options_.base_frame, best->header.frame_id, best->header.stamp);
     for (const auto& p : best->hypotheses) {
       try {  // one bad hypothesis costs itself, not the frame
         if (!std::isfinite(p.score)) throw ConversionError("non-finite score");
@@ -75,16 +79,18 @@ void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Ima
 
 void FrameAssembler::addScan(AssembledFrame& out, const ::ros::Time& stamp) {
   sensor_msgs::PointCloud2::ConstPtr cloud;
-  while (!clouds_.empty() && clouds_.front()->header.stamp <= stamp) cloud = clouds_.front(), clouds_.pop_front();
+  while (!clouds_.empty() && clouds_.front()->header.stamp <= stamp)
+    cloud = clouds_.front(), clouds_.pop_front();
   if (!cloud) return;
   try {
     const ::ros::Time& t = cloud->header.stamp;
-    out.frame.measurements.push_back(fromRanges(options_.lidar, lidar_rays_, rangesFromCloud(*cloud, options_.lidar),
-                                                lookup_(options_.odom_frame, cloud->header.frame_id, t),
-                                                cloud->header.frame_id));
+    out.frame.measurements.push_back(fromRanges(
+        options_.lidar, lidar_rays_, rangesFromCloud(*cloud, options_.lidar),
+        lookup_(options_.odom_frame, cloud->header.frame_id, t), cloud->header.frame_id));
     out.cloud = cloud;
   } catch (const std::exception& e) {
-    out.warnings.push_back("LiDAR scan at " + std::to_string(cloud->header.stamp.toSec()) + " skipped: " + e.what());
+    out.warnings.push_back("LiDAR scan at " + std::to_string(cloud->header.stamp.toSec()) +
+                           " skipped: " + e.what());
   }
 }
 

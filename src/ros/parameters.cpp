@@ -40,17 +40,19 @@ ParameterError notInConfig(const std::string& name) {
 }  // namespace
 
 template <class O>
-std::vector<std::string> readParameters(const ::ros::NodeHandle& pnh, const params::Schema<O>& schema, O& options) {
+std::vector<std::string> readParameters(const ::ros::NodeHandle& pnh,
+                                        const params::Schema<O>& schema, O& options) {
   for (const params::Param<O>& p : schema) {
     if (!pnh.hasParam(p.name)) continue;
     // The same reads as NodeHandle::param (an int is read as a double too).
     const std::optional<params::Value> v = p.type == Type::kBool  ? get<bool>(pnh, p.name)
                                            : p.type == Type::kInt ? get<int>(pnh, p.name)
-                                           : p.type == Type::kDouble ? get<double>(pnh, p.name)
-                                                                     : get<std::string>(pnh, p.name);
+                                           : p.type == Type::kDouble
+                                               ? get<double>(pnh, p.name)
+                                               : get<std::string>(pnh, p.name);
     if (!v)
-      throw ParameterError(pnh.resolveName(p.name) + ": not " + (p.type == Type::kInt ? "an " : "a ") +
-                           params::toString(p.type));
+      throw ParameterError(pnh.resolveName(p.name) + ": not " +
+                           (p.type == Type::kInt ? "an " : "a ") + params::toString(p.type));
     try {
       params::set(schema, options, p.name, *v);
     } catch (const ParameterError& e) {
@@ -63,12 +65,14 @@ std::vector<std::string> readParameters(const ::ros::NodeHandle& pnh, const para
   ::ros::param::getParamNames(names);
   const std::string ns = pnh.getNamespace() + "/";
   for (const std::string& n : names)
-    if (n.compare(0, ns.size(), ns) == 0 && !known.count(n.substr(ns.size()))) unknown.push_back(n.substr(ns.size()));
+    if (n.compare(0, ns.size(), ns) == 0 && !known.count(n.substr(ns.size())))
+      unknown.push_back(n.substr(ns.size()));
   return unknown;
 }
 
 template <class O>
-void toReconfigure(const params::Schema<O>& schema, const O& options, dynamic_reconfigure::Config& config) {
+void toReconfigure(const params::Schema<O>& schema, const O& options,
+                   dynamic_reconfigure::Config& config) {
   for (const params::Param<O>& p : schema) {
     if (!p.runtime) continue;
     const std::string name = params::reconfigureName(p.name);
@@ -92,7 +96,8 @@ void toReconfigure(const params::Schema<O>& schema, const O& options, dynamic_re
 }
 
 template <class O>
-void fromReconfigure(const params::Schema<O>& schema, const dynamic_reconfigure::Config& config, O& options) {
+void fromReconfigure(const params::Schema<O>& schema, const dynamic_reconfigure::Config& config,
+                     O& options) {
   for (const params::Param<O>& p : schema) {
     if (!p.runtime) continue;
     const std::string name = params::reconfigureName(p.name);
@@ -109,9 +114,10 @@ void fromReconfigure(const params::Schema<O>& schema, const dynamic_reconfigure:
   }
 }
 
-#define SGT_INSTANTIATE(O)                                                                                          \
-  template std::vector<std::string> readParameters(const ::ros::NodeHandle&, const params::Schema<O>&, O&);         \
-  template void toReconfigure(const params::Schema<O>&, const O&, dynamic_reconfigure::Config&);                   \
+#define SGT_INSTANTIATE(O)                                                                       \
+  template std::vector<std::string> readParameters(const ::ros::NodeHandle&,                     \
+                                                   const params::Schema<O>&, O&);                \
+  template void toReconfigure(const params::Schema<O>&, const O&, dynamic_reconfigure::Config&); \
   template void fromReconfigure(const params::Schema<O>&, const dynamic_reconfigure::Config&, O&);
 SGT_INSTANTIATE(params::TrackerParameters)
 SGT_INSTANTIATE(params::DetectorParameters)

@@ -8,9 +8,15 @@ std_msgs::ColorRGBA relationColour(relations::Relation r) {
   std_msgs::ColorRGBA c;
   c.a = 0.9f;
   switch (r) {
-    case relations::Relation::On: c.r = 0.2f, c.g = 0.6f, c.b = 1.0f; break;
-    case relations::Relation::In: c.r = 1.0f, c.g = 0.4f, c.b = 0.1f; break;
-    default: c.r = 0.85f, c.g = 0.85f, c.b = 0.85f; break;  // directional relations
+    case relations::Relation::On:
+      c.r = 0.2f, c.g = 0.6f, c.b = 1.0f;
+      break;
+    case relations::Relation::In:
+      c.r = 1.0f, c.g = 0.4f, c.b = 0.1f;
+      break;
+    default:
+      c.r = 0.85f, c.g = 0.85f, c.b = 0.85f;
+      break;  // directional relations
   }
   return c;
 }
@@ -23,10 +29,10 @@ geometry_msgs::Point point(const Eigen::Vector3d& p) {
 
 }  // namespace
 
-std::vector<visualization_msgs::Marker> relationMarkers(const std::vector<relations::Edge>& edges,
-                                                        const std::map<std::string, Eigen::Vector3d>& centres,
-                                                        const std::string& frame, const ::ros::Time& stamp,
-                                                        int first_id) {
+std::vector<visualization_msgs::Marker> relationMarkers(
+    const std::vector<relations::Edge>& edges,
+    const std::map<std::string, Eigen::Vector3d>& centres, const std::string& frame,
+    const ::ros::Time& stamp, int first_id) {
   std::vector<visualization_msgs::Marker> out;
   visualization_msgs::Marker lines;
   lines.header.frame_id = frame, lines.header.stamp = stamp;
@@ -42,7 +48,8 @@ std::vector<visualization_msgs::Marker> relationMarkers(const std::vector<relati
     lines.colors.push_back(c), lines.colors.push_back(c);
     visualization_msgs::Marker label;
     label.header = lines.header;
-    label.ns = "relation_labels", label.id = first_id++, label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    label.ns = "relation_labels", label.id = first_id++,
+    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
     label.action = visualization_msgs::Marker::ADD;
     label.pose.position = point(0.5 * (s->second + o->second) + Eigen::Vector3d(0, 0, 0.03));
     label.pose.orientation.w = 1.0;

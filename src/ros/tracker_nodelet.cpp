@@ -1,15 +1,15 @@
 #include "scene_graph_tracker/ros/tracker_nodelet.hpp"
 
 #include <geometry_msgs/TransformStamped.h>
-#include <boost/bind/bind.hpp>
-#include <pluginlib/class_list_macros.hpp>
 #include <scene_graph_tracker/SceneGraph.h>
 #include <scene_graph_tracker/TrackedObjectArray.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <boost/bind/bind.hpp>
 #include <map>
 #include <optional>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
@@ -24,15 +24,21 @@ std_msgs::ColorRGBA colour(TrackState s) {
   std_msgs::ColorRGBA c;
   c.a = 0.85f;
   switch (s) {
-    case TrackState::kTentative: c.r = 1.0f, c.g = 0.8f, c.b = 0.1f; break;
-    case TrackState::kConfirmed: c.r = 0.1f, c.g = 0.8f, c.b = 0.2f; break;
-    default: c.r = c.g = c.b = 0.55f; break;
+    case TrackState::kTentative:
+      c.r = 1.0f, c.g = 0.8f, c.b = 0.1f;
+      break;
+    case TrackState::kConfirmed:
+      c.r = 0.1f, c.g = 0.8f, c.b = 0.2f;
+      break;
+    default:
+      c.r = c.g = c.b = 0.55f;
+      break;
   }
   return c;
 }
 
 std::uint8_t stateCode(TrackState s) {
-  return s == TrackState::kTentative ? scene_graph_tracker::TrackedObject::TENTATIVE
+  return s == TrackState::kTentative   ? scene_graph_tracker::TrackedObject::TENTATIVE
          : s == TrackState::kConfirmed ? scene_graph_tracker::TrackedObject::CONFIRMED
                                        : scene_graph_tracker::TrackedObject::LOST;
 }
@@ -53,8 +59,9 @@ void TrackerNodelet::onInit() {
     throw;
   }
   for (const std::string& name : unknown)
-    NODELET_WARN("tracker: ~%s is no parameter of the tracker (ignored; see README \"Tracker parameters\")",
-                 name.c_str());
+    NODELET_WARN(
+        "tracker: ~%s is no parameter of the tracker (ignored; see README \"Tracker parameters\")",
+        name.c_str());
   map_frame_ = p.node.map_frame, odom_frame_ = p.node.odom_frame, base_frame_ = p.node.base_frame;
   publish_map_odom_ = p.node.publish_map_odom, publish_object_tf_ = p.node.publish_object_tf;
   const PipelineOptions& o = p.pipeline;
@@ -72,15 +79,18 @@ void TrackerNodelet::onInit() {
   auto map = std::make_shared<TriangleMesh>(loadStaticMap(map_path));
   pipeline_ = std::make_unique<FramePipeline>(catalog, map, o);
   if (!furniture_path.empty()) pipeline_->setFurniture(relations::loadFurniture(furniture_path));
-  NODELET_INFO("tracker: %zu classes from %s, static map %s (%zu triangles), %zu pieces of furniture", catalog->size(),
-               catalog_path.c_str(), map_path.c_str(), map->triangleCount(), pipeline_->furniture().size());
+  NODELET_INFO(
+      "tracker: %zu classes from %s, static map %s (%zu triangles), %zu pieces of furniture",
+      catalog->size(), catalog_path.c_str(), map_path.c_str(), map->triangleCount(),
+      pipeline_->furniture().size());
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   assembler_ = std::make_unique<FrameAssembler>(
       assemblerOptions(p.node),
       [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
-        return toEigen(tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
+        return toEigen(
+            tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
       });
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
   objects_pub_ = pnh.advertise<scene_graph_tracker::TrackedObjectArray>("tracked_objects", 5);
@@ -90,20 +100,24 @@ void TrackerNodelet::onInit() {
   diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
   depth_sub_.subscribe(nh, "depth/image", 3);
   info_sub_.subscribe(nh, "depth/camera_info", 3);
-  sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), depth_sub_, info_sub_);
-  sync_->registerCallback(boost::bind(&TrackerNodelet::onDepth, this, boost::placeholders::_1, boost::placeholders::_2));
+  sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), depth_sub_,
+                                                                      info_sub_);
+  sync_->registerCallback(boost::bind(&TrackerNodelet::onDepth, this, boost::placeholders::_1,
+                                      boost::placeholders::_2));
   cloud_sub_ = nh.subscribe("points", 2, &TrackerNodelet::onCloud, this);
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
   // Run-time parameters start from the values loaded above (config/tracker.yaml).
-  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(reconfigure_mutex_, pnh);
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(
+      reconfigure_mutex_, pnh);
   scene_graph_tracker::TrackerConfig initial = scene_graph_tracker::TrackerConfig::__getDefault__();
   dynamic_reconfigure::Config values;
   initial.__toMessage__(values);
   toReconfigure(params::trackerSchema(), p, values);
-  if (!initial.__fromMessage__(values)) throw params::ParameterError("cfg/Tracker.cfg does not match the schema");
+  if (!initial.__fromMessage__(values))
+    throw params::ParameterError("cfg/Tracker.cfg does not match the schema");
   reconfigure_->updateConfig(initial);
-  reconfigure_->setCallback(boost::bind(&TrackerNodelet::onReconfigure, this, boost::placeholders::_1,
-                                        boost::placeholders::_2));
+  reconfigure_->setCallback(boost::bind(&TrackerNodelet::onReconfigure, this,
+                                        boost::placeholders::_1, boost::placeholders::_2));
   reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::onReset, this);
   add_srv_ = pnh.advertiseService("add_track", &TrackerNodelet::onAddTrack, this);
   remove_srv_ = pnh.advertiseService("remove_track", &TrackerNodelet::onRemoveTrack, this);
@@ -123,7 +137,8 @@ void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArray
   assembler_->addHypotheses(msg);
 }
 
-void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth, const sensor_msgs::CameraInfoConstPtr& info) {
+void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
+                             const sensor_msgs::CameraInfoConstPtr& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   const ::ros::Time stamp = depth->header.stamp;
   if (!last_stamp_.isZero() && stamp < last_stamp_) {
@@ -159,7 +174,8 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
   objects.header = graph.header = header;
   for (const relations::Edge& e : r.relations) {
     scene_graph_tracker::SceneGraphEdge edge;
-    edge.subject = e.subject, edge.relation = relations::relationName(e.relation), edge.object = e.object;
+    edge.subject = e.subject, edge.relation = relations::relationName(e.relation),
+    edge.object = e.object;
     graph.edges.push_back(edge);
   }
   std::map<std::string, const TrackedObject*> by_id;
@@ -188,26 +204,28 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
   if (unassigned_pub_.getNumSubscribers() > 0) unassigned_pub_.publish(unassignedPoints(r, header));
 }
 
-scene_graph_tracker::TrackedObject TrackerNodelet::trackedObjectMessage(const TrackedObject& o,
-                                                                        const TrackedObject* parent) const {
+scene_graph_tracker::TrackedObject TrackerNodelet::trackedObjectMessage(
+    const TrackedObject& o, const TrackedObject* parent) const {
   scene_graph_tracker::TrackedObject t;
-  t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state), t.parent = parent ? o.parent : map_frame_;
+  t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state),
+  t.parent = parent ? o.parent : map_frame_;
   t.pose.pose = toPose(o.T_map_object);
   for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);
   t.inlier_ratio = static_cast<float>(o.quality.inlier_ratio), t.inliers = o.quality.inliers;
   return t;
 }
 
-scene_graph_tracker::SceneGraphNode TrackerNodelet::graphNodeMessage(const TrackedObject& o,
-                                                                     const TrackedObject* parent) const {
+scene_graph_tracker::SceneGraphNode TrackerNodelet::graphNodeMessage(
+    const TrackedObject& o, const TrackedObject* parent) const {
   scene_graph_tracker::SceneGraphNode n;
   n.id = o.id, n.class_name = o.class_name, n.parent = parent ? o.parent : map_frame_;
-  n.T_parent_node =
-      toTransform(parent ? Eigen::Isometry3d(parent->T_map_object.inverse() * o.T_map_object) : o.T_map_object);
+  n.T_parent_node = toTransform(
+      parent ? Eigen::Isometry3d(parent->T_map_object.inverse() * o.T_map_object) : o.T_map_object);
   return n;
 }
 
-visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r, const std_msgs::Header& header) const {
+visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r,
+                                                        const std_msgs::Header& header) const {
   visualization_msgs::MarkerArray markers;
   visualization_msgs::Marker clear;
   clear.action = visualization_msgs::Marker::DELETEALL;
@@ -219,17 +237,22 @@ visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r,
     m.header = header;
     m.ns = "objects", m.id = marker_id++, m.type = visualization_msgs::Marker::MESH_RESOURCE;
     m.mesh_resource = "file://" + c.mesh_path;
-    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = 1.0, m.color = colour(o.state);
+    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = 1.0,
+    m.color = colour(o.state);
     markers.markers.push_back(m);
     visualization_msgs::Marker box = m;
-    box.ns = "boxes", box.id = marker_id++, box.type = visualization_msgs::Marker::CUBE, box.mesh_resource.clear();
+    box.ns = "boxes", box.id = marker_id++, box.type = visualization_msgs::Marker::CUBE,
+    box.mesh_resource.clear();
     const Eigen::Vector3d centre = o.T_map_object * c.box.center().cast<double>();
-    box.pose.position.x = centre.x(), box.pose.position.y = centre.y(), box.pose.position.z = centre.z();
-    box.scale.x = c.box.sizes().x(), box.scale.y = c.box.sizes().y(), box.scale.z = c.box.sizes().z();
+    box.pose.position.x = centre.x(), box.pose.position.y = centre.y(),
+    box.pose.position.z = centre.z();
+    box.scale.x = c.box.sizes().x(), box.scale.y = c.box.sizes().y(),
+    box.scale.z = c.box.sizes().z();
     box.color.a = 0.15f;
     markers.markers.push_back(box);
     visualization_msgs::Marker label = m;
-    label.ns = "labels", label.id = marker_id++, label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    label.ns = "labels", label.id = marker_id++,
+    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
     label.mesh_resource.clear();
     label.text = o.id + " (" + toString(o.state) + ")";
     label.pose.position.z += c.box.sizes().z() * 0.5 + 0.05;
@@ -239,14 +262,17 @@ visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r,
   // Relation edges: lines between box centres (tracks and furniture) with labels.
   std::map<std::string, Eigen::Vector3d> centres;
   for (const TrackedObject& o : r.objects)
-    centres[o.id] = o.T_map_object * pipeline_->catalog().get(o.class_name).box.center().cast<double>();
-  for (const relations::Entity& f : pipeline_->furniture()) centres[f.name] = f.box.T_world_box.translation();
+    centres[o.id] =
+        o.T_map_object * pipeline_->catalog().get(o.class_name).box.center().cast<double>();
+  for (const relations::Entity& f : pipeline_->furniture())
+    centres[f.name] = f.box.T_world_box.translation();
   for (auto& m : relationMarkers(r.relations, centres, map_frame_, header.stamp, marker_id))
     markers.markers.push_back(m);
   return markers;
 }
 
-sensor_msgs::PointCloud2 TrackerNodelet::unassignedPoints(const PipelineResult& r, const std_msgs::Header& header) {
+sensor_msgs::PointCloud2 TrackerNodelet::unassignedPoints(const PipelineResult& r,
+                                                          const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 cloud;
   cloud.header = header;
   std::size_t n = 0;
@@ -265,7 +291,8 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
   array.header.stamp = ::ros::Time::now();
   diagnostic_msgs::DiagnosticStatus s;
   s.name = "scene_graph_tracker: tracker", s.hardware_id = getName();
-  s.level = problem.empty() ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
+  s.level = problem.empty() ? diagnostic_msgs::DiagnosticStatus::OK
+                            : diagnostic_msgs::DiagnosticStatus::WARN;
   s.message = problem.empty() ? "tracking" : problem;
   const auto kv = [&](const std::string& k, const std::string& v) {
     diagnostic_msgs::KeyValue x;
@@ -304,14 +331,18 @@ bool TrackerNodelet::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Respons
   return true;
 }
 
-bool TrackerNodelet::onAddTrack(scene_graph_tracker::AddTrack::Request& req, scene_graph_tracker::AddTrack::Response& res) {
+bool TrackerNodelet::onAddTrack(scene_graph_tracker::AddTrack::Request& req,
+                                scene_graph_tracker::AddTrack::Response& res) {
   std::lock_guard<std::mutex> lock(mutex_);
   try {
     const Eigen::Isometry3d T_map_frame =
         req.pose.header.frame_id.empty() || req.pose.header.frame_id == map_frame_
             ? Eigen::Isometry3d::Identity()
-            : toEigen(tf_buffer_->lookupTransform(map_frame_, req.pose.header.frame_id, ::ros::Time(0)).transform);
-    res.id = pipeline_->addTrack(req.class_name, T_map_frame * toEigen(req.pose.pose), req.pose.header.stamp.toSec());
+            : toEigen(
+                  tf_buffer_->lookupTransform(map_frame_, req.pose.header.frame_id, ::ros::Time(0))
+                      .transform);
+    res.id = pipeline_->addTrack(req.class_name, T_map_frame * toEigen(req.pose.pose),
+                                 req.pose.header.stamp.toSec());
     res.success = true;
   } catch (const std::exception& e) {
     res.success = false, res.message = e.what();

@@ -9,7 +9,9 @@ namespace {
 
 ::ros::Time toTime(const std::optional<double>& s) { return s ? ::ros::Time(*s) : ::ros::Time(0); }
 
-double stampOf(const std_msgs::Header& h) { return (h.stamp.isZero() ? ::ros::Time::now() : h.stamp).toSec(); }
+double stampOf(const std_msgs::Header& h) {
+  return (h.stamp.isZero() ? ::ros::Time::now() : h.stamp).toSec();
+}
 
 }  // namespace
 
@@ -18,7 +20,8 @@ semap::ClassShape classShape(const ObjectClass& c, std::size_t max_points) {
   s.name = c.name;
   s.box = c.box.cast<double>();
   if (c.mesh && !c.mesh->vertices.empty()) {
-    const std::size_t n = c.mesh->vertices.size(), step = std::max<std::size_t>(1, n / std::max<std::size_t>(max_points, 1));
+    const std::size_t n = c.mesh->vertices.size(),
+                      step = std::max<std::size_t>(1, n / std::max<std::size_t>(max_points, 1));
     for (std::size_t i = 0; i < n && s.hull_points.size() < max_points; i += step)
       s.hull_points.push_back(c.mesh->vertices[i].cast<double>());
   }
@@ -29,16 +32,17 @@ std::map<std::string, Eigen::Isometry3d> worldPoses(const scene_graph_tracker::S
   std::map<std::string, const scene_graph_tracker::SceneGraphNode*> nodes;
   for (const auto& n : graph.nodes) nodes[n.id] = &n;
   std::map<std::string, Eigen::Isometry3d> world;
-  std::function<Eigen::Isometry3d(const std::string&, std::size_t)> resolve = [&](const std::string& id,
-                                                                                  std::size_t depth) {
-    if (const auto it = world.find(id); it != world.end()) return it->second;
-    if (depth > nodes.size()) throw ConversionError("scene graph: parent cycle through '" + id + "'");
-    const auto* n = nodes.at(id);
-    const Eigen::Isometry3d T_parent = nodes.count(n->parent) && n->parent != id
-                                           ? resolve(n->parent, depth + 1)
-                                           : Eigen::Isometry3d::Identity();
-    return world[id] = T_parent * toEigen(n->T_parent_node);
-  };
+  std::function<Eigen::Isometry3d(const std::string&, std::size_t)> resolve =
+      [&](const std::string& id, std::size_t depth) {
+        if (const auto it = world.find(id); it != world.end()) return it->second;
+        if (depth > nodes.size())
+          throw ConversionError("scene graph: parent cycle through '" + id + "'");
+        const auto* n = nodes.at(id);
+        const Eigen::Isometry3d T_parent = nodes.count(n->parent) && n->parent != id
+                                               ? resolve(n->parent, depth + 1)
+                                               : Eigen::Isometry3d::Identity();
+        return world[id] = T_parent * toEigen(n->T_parent_node);
+      };
   for (const auto& n : graph.nodes) resolve(n.id, 0);
   return world;
 }
@@ -55,7 +59,8 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
   settings_.on_max_distance = pnh.param("on_max_distance", settings_.on_max_distance);
   settings_.tolerance = pnh.param("tolerance", settings_.tolerance);
   semap::WriterOptions options;
-  options.queue_size = static_cast<std::size_t>(std::max(1, pnh.param("queue_size", static_cast<int>(options.queue_size))));
+  options.queue_size = static_cast<std::size_t>(
+      std::max(1, pnh.param("queue_size", static_cast<int>(options.queue_size))));
   options.backoff_min_s = pnh.param("backoff_min", options.backoff_min_s);
   options.backoff_max_s = pnh.param("backoff_max", options.backoff_max_s);
   options.flush_timeout_s = pnh.param("flush_timeout", options.flush_timeout_s);
@@ -71,29 +76,34 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
     sub_ = nh.subscribe("tracked_objects", 10, &SemapBridge::onTrackedObjects, this);
   else
     sub_ = nh.subscribe("scene_graph", 10, &SemapBridge::onSceneGraph, this);
-  services_.push_back(pnh.advertiseService("query_relations", &SemapBridge::onQueryRelations, this));
+  services_.push_back(
+      pnh.advertiseService("query_relations", &SemapBridge::onQueryRelations, this));
   services_.push_back(pnh.advertiseService("objects_on", &SemapBridge::onObjectsOn, this));
   services_.push_back(pnh.advertiseService("objects_in", &SemapBridge::onObjectsIn, this));
-  services_.push_back(pnh.advertiseService("directional_relations", &SemapBridge::onDirectional, this));
+  services_.push_back(
+      pnh.advertiseService("directional_relations", &SemapBridge::onDirectional, this));
   services_.push_back(pnh.advertiseService("where_was", &SemapBridge::onWhereWas, this));
   services_.push_back(pnh.advertiseService("relation_since", &SemapBridge::onRelationSince, this));
-  ROS_INFO("semap_bridge: %s -> postgresql://%s@%s:%d/%s (queue %zu frames, %zu classes)", sub_.getTopic().c_str(),
-           settings_.user.c_str(), settings_.host.c_str(), settings_.port, settings_.dbname.c_str(),
-           options.queue_size, catalog_.size());
+  ROS_INFO("semap_bridge: %s -> postgresql://%s@%s:%d/%s (queue %zu frames, %zu classes)",
+           sub_.getTopic().c_str(), settings_.user.c_str(), settings_.host.c_str(), settings_.port,
+           settings_.dbname.c_str(), options.queue_size, catalog_.size());
 }
 
 std::shared_ptr<const semap::ClassShape> SemapBridge::shape(const std::string& class_name) {
   if (const auto it = shapes_.find(class_name); it != shapes_.end()) return it->second;
   if (!catalog_.contains(class_name)) {
-    ROS_WARN_THROTTLE(10.0, "semap_bridge: class '%s' is not in the catalog: its objects are not stored",
+    ROS_WARN_THROTTLE(10.0,
+                      "semap_bridge: class '%s' is not in the catalog: its objects are not stored",
                       class_name.c_str());
     return nullptr;
   }
-  return shapes_[class_name] = std::make_shared<const semap::ClassShape>(classShape(catalog_.get(class_name)));
+  return shapes_[class_name] =
+             std::make_shared<const semap::ClassShape>(classShape(catalog_.get(class_name)));
 }
 
 void SemapBridge::push(semap::Frame frame) {
-  if (last_write_ && frame.stamp >= *last_write_ && frame.stamp - *last_write_ < write_period_) return;
+  if (last_write_ && frame.stamp >= *last_write_ && frame.stamp - *last_write_ < write_period_)
+    return;
   if (last_write_ && frame.stamp < *last_write_) {
     ROS_WARN("semap_bridge: time went back by %.3f s (bag restarted?)", *last_write_ - frame.stamp);
     last_relations_.reset();
@@ -110,7 +120,8 @@ void SemapBridge::onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& ms
   try {
     const auto world = worldPoses(*msg);
     for (const auto& n : msg->nodes)
-      if (auto s = shape(n.class_name)) frame.objects.push_back({n.id, s, n.parent, world.at(n.id)});
+      if (auto s = shape(n.class_name))
+        frame.objects.push_back({n.id, s, n.parent, world.at(n.id)});
   } catch (const std::exception& e) {
     ROS_WARN_THROTTLE(5.0, "semap_bridge: skipping a scene graph: %s", e.what());
     return;
@@ -122,7 +133,8 @@ void SemapBridge::onTrackedObjects(const scene_graph_tracker::TrackedObjectArray
   semap::Frame frame;
   frame.stamp = stampOf(msg->header);
   for (const auto& o : msg->objects)
-    if (auto s = shape(o.class_name)) frame.objects.push_back({o.id, s, o.parent, toEigen(o.pose.pose)});
+    if (auto s = shape(o.class_name))
+      frame.objects.push_back({o.id, s, o.parent, toEigen(o.pose.pose)});
   push(std::move(frame));
 }
 
@@ -146,9 +158,11 @@ bool SemapBridge::answer(Response& res, F f) {
 bool SemapBridge::onQueryRelations(scene_graph_tracker::QueryRelations::Request& req,
                                    scene_graph_tracker::QueryRelations::Response& res) {
   return answer(res, [&](semap::SemapDb& db) {
-    for (const semap::RelationRow& r : db.relations(req.subject, req.relation, req.object, req.mode)) {
+    for (const semap::RelationRow& r :
+         db.relations(req.subject, req.relation, req.object, req.mode)) {
       scene_graph_tracker::SemapRelation m;
-      m.subject = r.subject, m.relation = r.relation, m.object = r.object, m.since = toTime(r.since);
+      m.subject = r.subject, m.relation = r.relation, m.object = r.object,
+      m.since = toTime(r.since);
       res.relations.push_back(m);
     }
   });
@@ -166,7 +180,9 @@ bool SemapBridge::onObjectsIn(scene_graph_tracker::ObjectsIn::Request& req,
 
 bool SemapBridge::onDirectional(scene_graph_tracker::DirectionalRelations::Request& req,
                                 scene_graph_tracker::DirectionalRelations::Response& res) {
-  return answer(res, [&](semap::SemapDb& db) { res.relations = db.directionalRelations(req.a, req.b, req.mode); });
+  return answer(res, [&](semap::SemapDb& db) {
+    res.relations = db.directionalRelations(req.a, req.b, req.mode);
+  });
 }
 
 bool SemapBridge::onWhereWas(scene_graph_tracker::WhereWas::Request& req,
@@ -175,7 +191,8 @@ bool SemapBridge::onWhereWas(scene_graph_tracker::WhereWas::Request& req,
     const auto p = db.whereWas(req.id, req.stamp.toSec());
     res.found = p.has_value();
     if (!p) return void(res.message = "no pose of '" + req.id + "' at or before that time");
-    res.pose_stamp = ::ros::Time(p->stamp), res.parent = p->parent, res.pose = toPose(p->T_world_object);
+    res.pose_stamp = ::ros::Time(p->stamp), res.parent = p->parent,
+    res.pose = toPose(p->T_world_object);
   });
 }
 

@@ -30,7 +30,8 @@ std::string multipointWkt(const std::vector<Eigen::Vector3d>& points) {
   std::ostringstream s;
   s << std::setprecision(9) << "MULTIPOINT Z (";
   for (std::size_t i = 0; i < points.size(); ++i)
-    s << (i ? ", " : "") << "(" << points[i].x() << " " << points[i].y() << " " << points[i].z() << ")";
+    s << (i ? ", " : "") << "(" << points[i].x() << " " << points[i].y() << " " << points[i].z()
+      << ")";
   s << ")";
   return s.str();
 }
@@ -43,9 +44,10 @@ std::optional<double> optionalDouble(const pqxx::field& f) {
 // Pose columns x y z qw qx qy qz starting at `first`.
 Eigen::Isometry3d poseFrom(const pqxx::row& r, int first) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(r[first].as<double>(), r[first + 1].as<double>(), r[first + 2].as<double>());
-  T.linear() = Eigen::Quaterniond(r[first + 3].as<double>(), r[first + 4].as<double>(), r[first + 5].as<double>(),
-                                  r[first + 6].as<double>())
+  T.translation() =
+      Eigen::Vector3d(r[first].as<double>(), r[first + 1].as<double>(), r[first + 2].as<double>());
+  T.linear() = Eigen::Quaterniond(r[first + 3].as<double>(), r[first + 4].as<double>(),
+                                  r[first + 5].as<double>(), r[first + 6].as<double>())
                    .normalized()
                    .toRotationMatrix();
   return T;
@@ -80,8 +82,9 @@ ON CONFLICT DO NOTHING)SQL";
 }  // namespace
 
 std::string DbSettings::connectionString() const {
-  std::string s = "host=" + quoted(host) + " port=" + std::to_string(port) + " user=" + quoted(user) +
-                  " dbname=" + quoted(dbname) + " connect_timeout=" + std::to_string(connect_timeout_s) +
+  std::string s = "host=" + quoted(host) + " port=" + std::to_string(port) +
+                  " user=" + quoted(user) + " dbname=" + quoted(dbname) +
+                  " connect_timeout=" + std::to_string(connect_timeout_s) +
                   " application_name='scene_graph_tracker semap'";
   if (!password.empty()) s += " password=" + quoted(password);
   return s;
@@ -95,8 +98,8 @@ std::string checkedMode(const std::string& mode) {
 }
 
 void checkRelationName(const std::string& relation) {
-  static const std::set<std::string> names = {"on", "in", "left_of", "right_of", "in_front_of", "behind", "above",
-                                              "below"};
+  static const std::set<std::string> names = {"on",          "in",     "left_of", "right_of",
+                                              "in_front_of", "behind", "above",   "below"};
   if (!relation.empty() && !names.count(relation))
     throw std::invalid_argument("unknown relation '" + relation +
                                 "' (on, in, left_of, right_of, in_front_of, behind, above, below)");
@@ -111,7 +114,9 @@ SemapDb::SemapDb(DbSettings settings) : settings_(std::move(settings)) {
   if (settings_.sql_dir.empty()) settings_.sql_dir = std::string(SGT_SOURCE_DIR) + "/sql";
   impl_ = std::make_unique<Impl>(settings_.connectionString());
   if (settings_.statement_timeout_s > 0)
-    impl_->conn.set_variable("statement_timeout", std::to_string(static_cast<int>(settings_.statement_timeout_s * 1000)));
+    impl_->conn.set_variable(
+        "statement_timeout",
+        std::to_string(static_cast<int>(settings_.statement_timeout_s * 1000)));
 }
 
 SemapDb::~SemapDb() = default;
@@ -122,7 +127,7 @@ void SemapDb::installSchema() {
   const std::string schema = readFile(settings_.sql_dir + "/semap_schema.sql");
   const std::string relations = readFile(settings_.sql_dir + "/semap_relations.sql");
   pqxx::work w(impl_->conn);
-  w.exec("SELECT pg_advisory_xact_lock(7362770)");  // one installer at a time
+  w.exec("SELECT pg_advisory_xact_lock(7362770)");    // one installer at a time
   w.exec("SET LOCAL client_min_messages = warning");  // no "already exists, skipping" notices
   w.exec(schema);
   w.exec(relations);
@@ -134,10 +139,12 @@ void SemapDb::writeFrame(const Frame& frame) {
   pqxx::work w(impl_->conn);
   std::set<std::string> new_classes;
   for (const InstancePose& o : frame.objects) {
-    if (!o.shape || classes_written_.count(o.shape->name) || new_classes.count(o.shape->name)) continue;
+    if (!o.shape || classes_written_.count(o.shape->name) || new_classes.count(o.shape->name))
+      continue;
     const Eigen::AlignedBox3d& b = o.shape->box;
-    w.exec_params(kUpsertClass, o.shape->name, b.min().x(), b.min().y(), b.min().z(), b.max().x(), b.max().y(),
-                  b.max().z(), o.shape->hull_points.size() >= 4 ? multipointWkt(o.shape->hull_points) : "");
+    w.exec_params(kUpsertClass, o.shape->name, b.min().x(), b.min().y(), b.min().z(), b.max().x(),
+                  b.max().y(), b.max().z(),
+                  o.shape->hull_points.size() >= 4 ? multipointWkt(o.shape->hull_points) : "");
     new_classes.insert(o.shape->name);
   }
   for (const InstancePose& o : frame.objects) {
@@ -145,16 +152,19 @@ void SemapDb::writeFrame(const Frame& frame) {
     const Eigen::Vector3d t = o.T_world_object.translation();
     const Eigen::Quaterniond q(o.T_world_object.rotation());
     for (const char* sql : {kUpsertInstance, kInsertPose})
-      w.exec_params(sql, o.id, o.shape->name, o.parent, frame.stamp, t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+      w.exec_params(sql, o.id, o.shape->name, o.parent, frame.stamp, t.x(), t.y(), t.z(), q.w(),
+                    q.x(), q.y(), q.z());
   }
   if (frame.complete)
-    w.exec_params("UPDATE instance SET present = false WHERE present AND last_seen < to_timestamp($1)", frame.stamp);
+    w.exec_params(
+        "UPDATE instance SET present = false WHERE present AND last_seen < to_timestamp($1)",
+        frame.stamp);
   if (frame.update_relations) {
     // In a subtransaction: when it fails (e.g. statement_timeout) the poses are still written.
     try {
       pqxx::subtransaction sub(w, "relations");
-      sub.exec_params("SELECT semap_update_relations(to_timestamp($1), $2, $3, $4)", frame.stamp, settings_.factor,
-                      settings_.on_max_distance, settings_.tolerance);
+      sub.exec_params("SELECT semap_update_relations(to_timestamp($1), $2, $3, $4)", frame.stamp,
+                      settings_.factor, settings_.on_max_distance, settings_.tolerance);
       sub.commit();
     } catch (const pqxx::sql_error& e) {
       if (std::string(e.sqlstate()).rfind("08", 0) == 0) throw;
@@ -172,7 +182,8 @@ std::vector<RelationRow> SemapDb::relations(const std::string& subject, const st
   const pqxx::result r = w.exec_params(
       "SELECT subject, relation, object, extract(epoch FROM since)::float8 FROM "
       "semap_relations(NULLIF($1, ''), NULLIF($2, ''), NULLIF($3, ''), $4, $5, $6, $7)",
-      subject, relation, object, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
+      subject, relation, object, checkedMode(mode), settings_.factor, settings_.on_max_distance,
+      settings_.tolerance);
   std::vector<RelationRow> rows;
   for (const pqxx::row& row : r)
     rows.push_back({row[0].as<std::string>(), row[1].as<std::string>(), row[2].as<std::string>(),
@@ -194,11 +205,13 @@ std::vector<std::string> SemapDb::objectsIn(const std::string& reference, const 
 
 std::vector<std::string> SemapDb::directionalRelations(const std::string& a, const std::string& b,
                                                        const std::string& mode) {
-  if (a.empty() || b.empty()) throw std::invalid_argument("directional relations need both objects");
+  if (a.empty() || b.empty())
+    throw std::invalid_argument("directional relations need both objects");
   pqxx::read_transaction w(impl_->conn);
   const pqxx::result r = w.exec_params(
-      "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5, $6) WHERE relation NOT IN ('on', 'in')", a,
-      b, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
+      "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5, $6) WHERE relation NOT IN "
+      "('on', 'in')",
+      a, b, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
   std::vector<std::string> names;
   for (const pqxx::row& row : r) names.push_back(row[0].as<std::string>());
   return names;
@@ -219,7 +232,8 @@ SinceAnswer SemapDb::relationSince(const std::string& subject, const std::string
   if (subject.empty() || relation.empty() || object.empty())
     throw std::invalid_argument("relation since needs subject, relation and object");
   SinceAnswer a;
-  for (const RelationRow& r : relations(subject, relation, object, mode)) a.holds = true, a.since = r.since;
+  for (const RelationRow& r : relations(subject, relation, object, mode))
+    a.holds = true, a.since = r.since;
   return a;
 }
 

@@ -13,16 +13,18 @@ namespace {
 bool connectionError(const pqxx::sql_error& e) {
   const std::string state = e.sqlstate();
   // 08: connection exception; 57P0x: server shutting down / restarting; 53: out of resources;
-  // 40001, 40P01: serialization failure, deadlock. Not 57014 (statement timeout): that frame is rejected.
-  return state.empty() || state.rfind("08", 0) == 0 || state.rfind("57P", 0) == 0 || state.rfind("53", 0) == 0 ||
-         state == "40001" || state == "40P01";
+  // 40001, 40P01: serialization failure, deadlock. Not 57014 (statement timeout): that frame is
+  // rejected.
+  return state.empty() || state.rfind("08", 0) == 0 || state.rfind("57P", 0) == 0 ||
+         state.rfind("53", 0) == 0 || state == "40001" || state == "40P01";
 }
 
 }  // namespace
 
 SemapWriter::SemapWriter(DbSettings settings, WriterOptions options)
     : settings_(std::move(settings)), options_(options), backoff_s_(options.backoff_min_s) {
-  if (!::ros::isInitialized()) ::ros::Time::init();  // outside a node (tests): the throttled logs use wall time
+  if (!::ros::isInitialized())
+    ::ros::Time::init();  // outside a node (tests): the throttled logs use wall time
   thread_ = std::thread([this] { run(); });
 }
 
@@ -41,8 +43,11 @@ void SemapWriter::push(Frame frame) {
     while (queue_.size() >= std::max<std::size_t>(options_.queue_size, 1)) {
       queue_.pop_front();
       ++stats_.dropped;
-      ROS_WARN_THROTTLE(2.0, "semap: write queue full (%zu frames, database unreachable or slow): dropping the "
-                        "oldest frame (%zu dropped so far)", options_.queue_size, stats_.dropped);
+      ROS_WARN_THROTTLE(
+          2.0,
+          "semap: write queue full (%zu frames, database unreachable or slow): dropping the "
+          "oldest frame (%zu dropped so far)",
+          options_.queue_size, stats_.dropped);
     }
     queue_.push_back({next_seq_++, std::move(frame)});
     ++stats_.pushed;
@@ -59,7 +64,8 @@ WriterStats SemapWriter::stats() const {
 
 bool SemapWriter::waitIdle(double timeout_s) const {
   std::unique_lock<std::mutex> lock(mutex_);
-  return changed_.wait_for(lock, std::chrono::duration<double>(timeout_s), [this] { return queue_.empty() && !busy_; });
+  return changed_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                           [this] { return queue_.empty() && !busy_; });
 }
 
 bool SemapWriter::connect() {
@@ -70,9 +76,10 @@ bool SemapWriter::connect() {
   } catch (const std::exception& e) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++stats_.failed_attempts;
-    ROS_WARN_THROTTLE(5.0, "semap: cannot connect to %s:%d/%s (%s); %zu frames queued, retrying in %.1f s",
-                      settings_.host.c_str(), settings_.port, settings_.dbname.c_str(), e.what(), queue_.size(),
-                      backoff_s_);
+    ROS_WARN_THROTTLE(
+        5.0, "semap: cannot connect to %s:%d/%s (%s); %zu frames queued, retrying in %.1f s",
+        settings_.host.c_str(), settings_.port, settings_.dbname.c_str(), e.what(), queue_.size(),
+        backoff_s_);
     return false;
   }
   std::lock_guard<std::mutex> lock(mutex_);
@@ -81,17 +88,19 @@ bool SemapWriter::connect() {
   if (outage_since_) {
     stats_.last_outage_s = std::chrono::duration<double>(Clock::now() - *outage_since_).count();
     ROS_WARN("semap: %s %s:%d/%s after %.2f s; writing %zu queued frames",
-             stats_.connects > 1 ? "reconnected to" : "connected to", settings_.host.c_str(), settings_.port,
-             settings_.dbname.c_str(), stats_.last_outage_s, queue_.size());
+             stats_.connects > 1 ? "reconnected to" : "connected to", settings_.host.c_str(),
+             settings_.port, settings_.dbname.c_str(), stats_.last_outage_s, queue_.size());
     outage_since_.reset();
   } else {
-    ROS_INFO("semap: connected to %s:%d/%s", settings_.host.c_str(), settings_.port, settings_.dbname.c_str());
+    ROS_INFO("semap: connected to %s:%d/%s", settings_.host.c_str(), settings_.port,
+             settings_.dbname.c_str());
   }
   return true;
 }
 
 void SemapWriter::sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_point deadline) {
-  auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(backoff_s_));
+  auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(backoff_s_));
   if (stop_) until = std::min(until, deadline);
   const bool stopping = stop_;
   changed_.wait_until(lock, until, [&] { return stop_ != stopping; });
@@ -108,7 +117,8 @@ void SemapWriter::run() {
                                     std::chrono::duration<double>(options_.flush_timeout_s));
     if (queue_.empty() || (stop_ && Clock::now() >= deadline)) {
       if (!queue_.empty())
-        ROS_ERROR("semap: stopping with %zu frames not written (database unreachable)", queue_.size());
+        ROS_ERROR("semap: stopping with %zu frames not written (database unreachable)",
+                  queue_.size());
       if (stop_) return;
       continue;
     }
@@ -123,8 +133,9 @@ void SemapWriter::run() {
         db_->writeFrame(item.frame);
         written = true;
         if (!db_->relationError().empty())
-          ROS_WARN_THROTTLE(5.0, "semap: relation intervals not updated at %.3f (poses written): %s", item.frame.stamp,
-                            db_->relationError().c_str());
+          ROS_WARN_THROTTLE(5.0,
+                            "semap: relation intervals not updated at %.3f (poses written): %s",
+                            item.frame.stamp, db_->relationError().c_str());
       } catch (const pqxx::sql_error& e) {
         if (connectionError(e) || !db_->isOpen())
           error = e.what();
@@ -138,15 +149,19 @@ void SemapWriter::run() {
     lock.lock();
     busy_ = false;
     if (written || rejected) {
-      if (!queue_.empty() && queue_.front().seq == item.seq) queue_.pop_front();  // unless dropped meanwhile
+      if (!queue_.empty() && queue_.front().seq == item.seq)
+        queue_.pop_front();  // unless dropped meanwhile
       ++(written ? stats_.written : stats_.rejected);
-      if (rejected) ROS_ERROR("semap: the database rejected the frame at %.3f, skipping it: %s", item.frame.stamp, error.c_str());
+      if (rejected)
+        ROS_ERROR("semap: the database rejected the frame at %.3f, skipping it: %s",
+                  item.frame.stamp, error.c_str());
       stats_.pending = queue_.size();
       changed_.notify_all();
       continue;
     }
     if (db_) {  // the write failed on the connection: drop it, keep the frame, reconnect
-      ROS_WARN("semap: write failed (%s); keeping %zu frames queued and reconnecting", error.c_str(), queue_.size());
+      ROS_WARN("semap: write failed (%s); keeping %zu frames queued and reconnecting",
+               error.c_str(), queue_.size());
       db_.reset();
       stats_.connected = false;
       if (!outage_since_) outage_since_ = Clock::now();

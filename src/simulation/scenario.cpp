@@ -19,7 +19,8 @@ namespace sgt::sim {
 PoseTrajectory::PoseTrajectory(std::vector<PoseKey> keys) : keys_(std::move(keys)) {
   if (keys_.empty()) throw std::invalid_argument("PoseTrajectory: no keys");
   for (std::size_t i = 1; i < keys_.size(); ++i)
-    if (!(keys_[i].t > keys_[i - 1].t)) throw std::invalid_argument("PoseTrajectory: key times must increase");
+    if (!(keys_[i].t > keys_[i - 1].t))
+      throw std::invalid_argument("PoseTrajectory: key times must increase");
   for (auto& k : keys_) k.orientation.normalize();
 }
 
@@ -32,7 +33,8 @@ Eigen::Isometry3d PoseTrajectory::at(double t) const {
   if (t >= keys_.back().t) {
     a = b = &keys_.back();
   } else if (t > keys_.front().t) {
-    const auto it = std::upper_bound(keys_.begin(), keys_.end(), t, [](double v, const PoseKey& k) { return v < k.t; });
+    const auto it = std::upper_bound(keys_.begin(), keys_.end(), t,
+                                     [](double v, const PoseKey& k) { return v < k.t; });
     b = &*it;
     a = &*(it - 1);
     s = (t - a->t) / (b->t - a->t);
@@ -58,7 +60,8 @@ std::vector<std::int64_t> frameTimesNs(double rate, double duration) {
   std::vector<std::int64_t> out;
   if (!(rate > 0.0) || !(duration > 0.0)) return out;
   const auto n = static_cast<std::int64_t>(std::ceil(duration * rate - 1e-9));
-  for (std::int64_t k = 0; k < n; ++k) out.push_back(std::llround(static_cast<double>(k) * 1e9 / rate));
+  for (std::int64_t k = 0; k < n; ++k)
+    out.push_back(std::llround(static_cast<double>(k) * 1e9 / rate));
   return out;
 }
 
@@ -72,12 +75,16 @@ constexpr double kDeg = M_PI / 180.0;
 class Field {
  public:
   Field(const std::string& file, YAML::Node node, std::string path, int fallback_line)
-      : file_(&file), node_(std::move(node)), path_(std::move(path)), fallback_line_(fallback_line) {}
+      : file_(&file),
+        node_(std::move(node)),
+        path_(std::move(path)),
+        fallback_line_(fallback_line) {}
 
   const std::string& path() const { return path_; }
   int line() const { return node_.Mark().line >= 0 ? node_.Mark().line + 1 : fallback_line_; }
   [[noreturn]] void fail(const std::string& message) const {
-    throw ScenarioError(*file_ + ":" + std::to_string(line()) + ": " + (path_.empty() ? "" : path_ + ": ") + message);
+    throw ScenarioError(*file_ + ":" + std::to_string(line()) + ": " +
+                        (path_.empty() ? "" : path_ + ": ") + message);
   }
 
   bool isNull() const { return !node_ || node_.IsNull(); }
@@ -92,11 +99,13 @@ class Field {
     expectMap();
     for (const auto& kv : node_) {
       const std::string key = kv.first.Scalar();
-      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) != allowed.end())
+      if (std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }) !=
+          allowed.end())
         continue;
       std::string known;
       for (const char* a : allowed) known += std::string(known.empty() ? "" : ", ") + a;
-      Field(*file_, kv.first, child(key), line()).fail("unknown key (expected one of: " + known + ")");
+      Field(*file_, kv.first, child(key), line())
+          .fail("unknown key (expected one of: " + known + ")");
     }
   }
   bool has(const char* key) const { return node_.IsMap() && node_[key]; }
@@ -106,7 +115,8 @@ class Field {
   }
   Field required(const char* key) const {
     expectMap();
-    if (!has(key)) Field(*file_, YAML::Node(), child(key), line()).fail("required field is missing");
+    if (!has(key))
+      Field(*file_, YAML::Node(), child(key), line()).fail("required field is missing");
     return Field(*file_, node_[key], child(key), line());
   }
 
@@ -146,10 +156,11 @@ class Field {
   }
   long long integer(long long lo, long long hi) const {
     long long v = 0;
-    if (!node_.IsScalar() || !YAML::convert<long long>::decode(node_, v)) fail("expected a whole number");
+    if (!node_.IsScalar() || !YAML::convert<long long>::decode(node_, v))
+      fail("expected a whole number");
     if (v < lo || v > hi)
-      fail("expected a whole number in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
-           std::to_string(v));
+      fail("expected a whole number in " + std::to_string(lo) + ".." + std::to_string(hi) +
+           ", got " + std::to_string(v));
     return v;
   }
   bool boolean() const {
@@ -164,7 +175,8 @@ class Field {
   std::vector<double> numbers(std::size_t n) const {
     if (!node_.IsSequence()) fail("expected a list of " + std::to_string(n) + " numbers");
     if (node_.size() != n)
-      fail("expected a list of " + std::to_string(n) + " numbers, got " + std::to_string(node_.size()));
+      fail("expected a list of " + std::to_string(n) + " numbers, got " +
+           std::to_string(node_.size()));
     std::vector<double> v;
     for (std::size_t i = 0; i < n; ++i) v.push_back((*this)[i].number());
     return v;
@@ -175,12 +187,15 @@ class Field {
   }
   Eigen::Vector3f color() const {
     const Eigen::Vector3d c = vec3();
-    if ((c.array() < 0.0).any() || (c.array() > 1.0).any()) fail("expected three numbers in 0..1 (RGB)");
+    if ((c.array() < 0.0).any() || (c.array() > 1.0).any())
+      fail("expected three numbers in 0..1 (RGB)");
     return c.cast<float>();
   }
 
  private:
-  std::string child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string child(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
 
   const std::string* file_;
   YAML::Node node_;
@@ -202,15 +217,18 @@ class Parser {
     } catch (const YAML::BadFile&) {
       throw ScenarioError(s_.file + ": cannot read the file");
     } catch (const YAML::ParserException& e) {
-      throw ScenarioError(s_.file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+      throw ScenarioError(s_.file + ":" + std::to_string(e.mark.line + 1) +
+                          ": YAML syntax error: " + e.msg);
     }
     const Field r(s_.file, root, "", 1);
-    if (!root.IsMap()) r.fail("expected a map of scenario fields (duration, world, catalog, objects, ...)");
-    r.allowKeys({"duration", "seed", "start_time", "world", "catalog", "mesh_dir", "objects", "distractors", "robot",
-                 "camera", "lidar", "noise", "detections", "relations"});
+    if (!root.IsMap())
+      r.fail("expected a map of scenario fields (duration, world, catalog, objects, ...)");
+    r.allowKeys({"duration", "seed", "start_time", "world", "catalog", "mesh_dir", "objects",
+                 "distractors", "robot", "camera", "lidar", "noise", "detections", "relations"});
 
     s_.duration = r.required("duration").positive();
-    if (const auto f = r.optional("seed")) s_.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
+    if (const auto f = r.optional("seed"))
+      s_.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
     if (const auto f = r.optional("start_time")) s_.start_time = f->positive();
 
     parseWorld(r.required("world"));
@@ -225,16 +243,23 @@ class Parser {
       const auto& [index, field] = inside_fields_[i];
       const ObjectSpec& o = s_.objects[index];
       const ObjectSpec* c = s_.findObject(o.inside->container);
-      if (!c || c == &o) field.fail("'" + o.inside->container + "' is not the id of another object");
+      if (!c || c == &o)
+        field.fail("'" + o.inside->container + "' is not the id of another object");
     }
     if (const auto f = r.optional("relations"))
       for (const Field& rel : f->list()) parseRelation(rel);
     for (const ObjectSpec& o : s_.objects)
-      if (o.inside) s_.relations.push_back({o.id, relations::Relation::In, o.inside->container, o.inside->from});
-    if (const auto f = r.optional("camera")) parseCamera(*f);
-    else s_.camera.T_base_camera = defaultCameraMount();
-    if (const auto f = r.optional("lidar")) parseLidar(*f);
-    else s_.lidar.T_base_lidar.translation() = Eigen::Vector3d(0, 0, 0.9);
+      if (o.inside)
+        s_.relations.push_back(
+            {o.id, relations::Relation::In, o.inside->container, o.inside->from});
+    if (const auto f = r.optional("camera"))
+      parseCamera(*f);
+    else
+      s_.camera.T_base_camera = defaultCameraMount();
+    if (const auto f = r.optional("lidar"))
+      parseLidar(*f);
+    else
+      s_.lidar.T_base_lidar.translation() = Eigen::Vector3d(0, 0, 0.9);
     if (const auto f = r.optional("noise")) parseNoise(*f);
     if (const auto f = r.optional("detections")) parseDetections(*f);
     return std::move(s_);
@@ -270,19 +295,22 @@ class Parser {
   }
 
   void parseBuilding(const Field& b, BuildingOptions& o) {
-    b.allowKeys({"length_x", "length_y", "wall_height", "wall_thickness", "rooms_x", "rooms_y", "door_width",
-                 "door_height", "tile_size", "target_triangles", "seed", "furniture"});
+    b.allowKeys({"length_x", "length_y", "wall_height", "wall_thickness", "rooms_x", "rooms_y",
+                 "door_width", "door_height", "tile_size", "target_triangles", "seed",
+                 "furniture"});
     auto fl = [&](const char* key, float& v) {
       if (const auto f = b.optional(key)) v = static_cast<float>(f->positive());
     };
     fl("length_x", o.length_x), fl("length_y", o.length_y), fl("wall_height", o.wall_height);
-    fl("wall_thickness", o.wall_thickness), fl("door_width", o.door_width), fl("door_height", o.door_height);
+    fl("wall_thickness", o.wall_thickness), fl("door_width", o.door_width),
+        fl("door_height", o.door_height);
     fl("tile_size", o.tile_size);
     if (const auto f = b.optional("rooms_x")) o.rooms_x = static_cast<int>(f->integer(1, 100));
     if (const auto f = b.optional("rooms_y")) o.rooms_y = static_cast<int>(f->integer(1, 100));
     if (const auto f = b.optional("target_triangles"))
       o.target_triangles = static_cast<std::size_t>(f->integer(0, 100000000));
-    if (const auto f = b.optional("seed")) o.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
+    if (const auto f = b.optional("seed"))
+      o.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
     if (const auto f = b.optional("furniture")) o.furniture = f->boolean();
   }
 
@@ -308,7 +336,8 @@ class Parser {
       s_.catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(s_.catalog_path, s_.mesh_dir));
     } catch (const std::exception& e) {
       if (!options_.mesh_dir_override.empty())
-        throw ScenarioError(s_.file + ": catalog with the mesh directory override '" + s_.mesh_dir + "': " + e.what());
+        throw ScenarioError(s_.file + ": catalog with the mesh directory override '" + s_.mesh_dir +
+                            "': " + e.what());
       if (md && std::string(e.what()).find(s_.mesh_dir) != std::string::npos) md->fail(e.what());
       c.fail(e.what());
     }
@@ -327,7 +356,8 @@ class Parser {
   }
 
   static double angle(const Field& k, const char* rad_key, const char* deg_key, double fallback) {
-    if (k.has(rad_key) && k.has(deg_key)) k.fail(std::string("give ") + rad_key + " or " + deg_key + ", not both");
+    if (k.has(rad_key) && k.has(deg_key))
+      k.fail(std::string("give ") + rad_key + " or " + deg_key + ", not both");
     if (const auto f = k.optional(rad_key)) return f->number();
     if (const auto f = k.optional(deg_key)) return f->number() * kDeg;
     return fallback;
@@ -336,7 +366,8 @@ class Parser {
   // keyframes: [{t, xyz, rpy | rpy_deg}] in the frame whose origin is `origin`.
   PoseTrajectory parsePoseKeys(const Field& owner, const Eigen::Vector3d& origin) const {
     const Field list = owner.required("keyframes");
-    if (!list.isSequence() || list.size() == 0) list.fail("expected a list of at least one keyframe {t, xyz, rpy}");
+    if (!list.isSequence() || list.size() == 0)
+      list.fail("expected a list of at least one keyframe {t, xyz, rpy}");
     std::vector<PoseKey> keys;
     for (const Field& k : list.list()) {
       k.allowKeys({"t", "xyz", "rpy", "rpy_deg"});
@@ -357,7 +388,8 @@ class Parser {
     const Field tf = k.required("t");
     const double t = tf.nonNegative();
     if (!previous.empty() && !(t > previous.back().t))
-      tf.fail("keyframe times must increase (previous keyframe has t = " + fmt(previous.back().t) + ")");
+      tf.fail("keyframe times must increase (previous keyframe has t = " + fmt(previous.back().t) +
+              ")");
     return t;
   }
 
@@ -371,7 +403,8 @@ class Parser {
     r.allowKeys({"frame", "keyframes"});
     const Eigen::Vector3d origin = frameOrigin(r);
     const Field list = r.required("keyframes");
-    if (!list.isSequence() || list.size() == 0) list.fail("expected a list of at least one keyframe {t, xy, yaw}");
+    if (!list.isSequence() || list.size() == 0)
+      list.fail("expected a list of at least one keyframe {t, xy, yaw}");
     std::vector<PoseKey> keys;
     for (const Field& k : list.list()) {
       k.allowKeys({"t", "xy", "yaw", "yaw_deg"});
@@ -379,7 +412,8 @@ class Parser {
       key.t = timeOf(k, keys);
       const auto xy = k.required("xy").numbers(2);
       key.position = Eigen::Vector3d(origin.x() + xy[0], origin.y() + xy[1], 0.0);
-      key.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle(k, "yaw", "yaw_deg", 0.0), Eigen::Vector3d::UnitZ()));
+      key.orientation = Eigen::Quaterniond(
+          Eigen::AngleAxisd(angle(k, "yaw", "yaw_deg", 0.0), Eigen::Vector3d::UnitZ()));
       keys.push_back(key);
     }
     s_.robot = PoseTrajectory(std::move(keys));
@@ -400,7 +434,8 @@ class Parser {
     if (!s_.catalog->contains(spec.class_name)) {
       std::string known;
       for (const auto& n : s_.catalog->names()) known += (known.empty() ? "" : ", ") + n;
-      cls.fail("unknown class '" + spec.class_name + "' (catalog " + s_.catalog_path + " has: " + known + ")");
+      cls.fail("unknown class '" + spec.class_name + "' (catalog " + s_.catalog_path +
+               " has: " + known + ")");
     }
     spec.trajectory = parsePoseKeys(o, frameOrigin(o));
     if (const auto f = o.optional("color")) spec.color = f->color();
@@ -419,17 +454,21 @@ class Parser {
   void parseRelation(const Field& f) {
     f.allowKeys({"subject", "relation", "object", "from", "to"});
     RelationSpec spec;
-    const Field subject = f.required("subject"), object = f.required("object"), relation = f.required("relation");
+    const Field subject = f.required("subject"), object = f.required("object"),
+                relation = f.required("relation");
     spec.subject = subject.string();
-    if (!s_.findObject(spec.subject)) subject.fail("'" + spec.subject + "' is not the id of an object");
+    if (!s_.findObject(spec.subject))
+      subject.fail("'" + spec.subject + "' is not the id of an object");
     spec.object = object.string();
     const bool furniture = spec.object == kWorkbenchName && s_.workbench.has_value();
     if (!furniture && !s_.findObject(spec.object))
-      object.fail("'" + spec.object + "' is not the id of an object" + (s_.workbench ? " or workbench" : ""));
+      object.fail("'" + spec.object + "' is not the id of an object" +
+                  (s_.workbench ? " or workbench" : ""));
     if (spec.object == spec.subject) object.fail("an object stands in no relation to itself");
     const auto r = relations::parseRelation(relation.string());
-    if (!r) relation.fail("unknown relation '" + relation.string() +
-                          "' (expected on, in, left_of, right_of, in_front_of, behind, above or below)");
+    if (!r)
+      relation.fail("unknown relation '" + relation.string() +
+                    "' (expected on, in, left_of, right_of, in_front_of, behind, above or below)");
     spec.relation = *r;
     if (const auto from = f.optional("from")) spec.from = from->nonNegative();
     if (const auto to = f.optional("to")) {
@@ -497,21 +536,26 @@ class Parser {
   // mount: {xyz, rpy | rpy_deg | look_at (+ look_at_frame)}; returns the mounted body frame
   // (or the optical frame for look_at) in base_link.
   Eigen::Isometry3d parseMount(const Field& m, bool camera) const {
-    if (camera) m.allowKeys({"xyz", "rpy", "rpy_deg", "look_at", "look_at_frame"});
-    else m.allowKeys({"xyz", "rpy", "rpy_deg"});
+    if (camera)
+      m.allowKeys({"xyz", "rpy", "rpy_deg", "look_at", "look_at_frame"});
+    else
+      m.allowKeys({"xyz", "rpy", "rpy_deg"});
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = m.required("xyz").vec3();
     const int given = m.has("rpy") + m.has("rpy_deg") + m.has("look_at");
-    if (given > 1) m.fail(camera ? "give one of rpy, rpy_deg, look_at" : "give rpy or rpy_deg, not both");
+    if (given > 1)
+      m.fail(camera ? "give one of rpy, rpy_deg, look_at" : "give rpy or rpy_deg, not both");
     if (const auto f = m.optional("rpy")) T.linear() = fromRpy(f->vec3()).toRotationMatrix();
-    if (const auto f = m.optional("rpy_deg")) T.linear() = fromRpy(f->vec3() * kDeg).toRotationMatrix();
+    if (const auto f = m.optional("rpy_deg"))
+      T.linear() = fromRpy(f->vec3() * kDeg).toRotationMatrix();
     if (camera) {
       if (const auto la = m.optional("look_at")) {
         Eigen::Vector3d origin = Eigen::Vector3d::Zero();
         if (const auto lf = m.optional("look_at_frame")) {
           const std::string name = lf->string();
           if (name == "workbench") {
-            if (!s_.workbench) lf->fail("frame 'workbench' needs world.building or world.workbench");
+            if (!s_.workbench)
+              lf->fail("frame 'workbench' needs world.building or world.workbench");
             origin = *s_.workbench;
           } else if (name != "map") {
             lf->fail("unknown frame '" + name + "' (expected map or workbench)");
@@ -534,7 +578,8 @@ class Parser {
   }
 
   void parseCamera(const Field& c) {
-    c.allowKeys({"width", "height", "fx", "fy", "cx", "cy", "range_min", "range_max", "rate", "mount"});
+    c.allowKeys(
+        {"width", "height", "fx", "fy", "cx", "cy", "range_min", "range_max", "rate", "mount"});
     PinholeModel& m = s_.camera.model;
     if (const auto f = c.optional("width")) m.width = static_cast<int>(f->integer(1, 10000));
     if (const auto f = c.optional("height")) m.height = static_cast<int>(f->integer(1, 10000));
@@ -546,7 +591,8 @@ class Parser {
     if (const auto f = c.optional("range_max")) m.range_max = static_cast<float>(f->positive());
     if (!(m.range_max > m.range_min)) c.required("range_max").fail("must be larger than range_min");
     if (const auto f = c.optional("rate")) s_.camera.rate = f->positive();
-    s_.camera.T_base_camera = c.has("mount") ? parseMount(c.required("mount"), true) : defaultCameraMount();
+    s_.camera.T_base_camera =
+        c.has("mount") ? parseMount(c.required("mount"), true) : defaultCameraMount();
   }
 
   void parseLidar(const Field& l) {
@@ -556,13 +602,16 @@ class Parser {
     if (const auto f = l.optional("range_max")) m.range_max = static_cast<float>(f->positive());
     if (!(m.range_max > m.range_min)) l.required("range_max").fail("must be larger than range_min");
     if (const auto f = l.optional("rate")) s_.lidar.rate = f->positive();
-    if (const auto f = l.optional("mount")) s_.lidar.T_base_lidar = parseMount(*f, false);
-    else s_.lidar.T_base_lidar.translation() = Eigen::Vector3d(0, 0, 0.9);
+    if (const auto f = l.optional("mount"))
+      s_.lidar.T_base_lidar = parseMount(*f, false);
+    else
+      s_.lidar.T_base_lidar.translation() = Eigen::Vector3d(0, 0, 0.9);
   }
 
   // ----------------------------------------------------------------- noise and detections
   void parseNoise(const Field& n) {
-    n.allowKeys({"depth_sigma_at_1m", "depth_edge_jump", "depth_max_incidence_deg", "lidar_range_sigma", "odometry"});
+    n.allowKeys({"depth_sigma_at_1m", "depth_edge_jump", "depth_max_incidence_deg",
+                 "lidar_range_sigma", "odometry"});
     NoiseSpec& o = s_.noise;
     if (const auto f = n.optional("depth_sigma_at_1m")) o.depth_sigma_at_1m = f->nonNegative();
     if (const auto f = n.optional("depth_edge_jump")) o.depth_edge_jump = f->nonNegative();
@@ -573,7 +622,8 @@ class Parser {
     if (const auto f = n.optional("lidar_range_sigma")) o.lidar_range_sigma = f->nonNegative();
     if (const auto od = n.optional("odometry")) {
       od->allowKeys({"translation_sigma", "rotation_sigma", "initial_error"});
-      if (const auto f = od->optional("translation_sigma")) o.odom_translation_sigma = f->nonNegative();
+      if (const auto f = od->optional("translation_sigma"))
+        o.odom_translation_sigma = f->nonNegative();
       if (const auto f = od->optional("rotation_sigma")) o.odom_rotation_sigma = f->nonNegative();
       if (const auto f = od->optional("initial_error")) o.odom_initial_error = f->vec3();
     }
@@ -584,11 +634,13 @@ class Parser {
                  "false_positives_per_frame"});
     DetectionSpec& o = s_.detections;
     if (const auto f = d.optional("enabled")) o.enabled = f->boolean();
-    if (const auto f = d.optional("min_visible_pixels")) o.min_visible_pixels = static_cast<int>(f->integer(1, 100000000));
+    if (const auto f = d.optional("min_visible_pixels"))
+      o.min_visible_pixels = static_cast<int>(f->integer(1, 100000000));
     if (const auto f = d.optional("sigma_t")) o.sigma_t = f->nonNegative();
     if (const auto f = d.optional("sigma_r_deg")) o.sigma_r_deg = f->nonNegative();
     if (const auto f = d.optional("miss_probability")) o.miss_probability = f->probability();
-    if (const auto f = d.optional("false_positives_per_frame")) o.false_positives_per_frame = f->nonNegative();
+    if (const auto f = d.optional("false_positives_per_frame"))
+      o.false_positives_per_frame = f->nonNegative();
   }
 
   ScenarioLoadOptions options_;

@@ -9,8 +9,8 @@
 #include <random>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
-#include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::sim {
@@ -29,7 +29,8 @@ std::uint64_t splitmix64(std::uint64_t x) {
 }
 
 std::uint32_t seedFor(std::uint32_t seed, Stream stream, std::uint64_t index) {
-  return static_cast<std::uint32_t>(splitmix64(splitmix64((static_cast<std::uint64_t>(seed) << 8) ^ stream) + index));
+  return static_cast<std::uint32_t>(
+      splitmix64(splitmix64((static_cast<std::uint64_t>(seed) << 8) ^ stream) + index));
 }
 
 Eigen::Isometry3d planar(double x, double y, double yaw) {
@@ -41,9 +42,12 @@ Eigen::Isometry3d planar(double x, double y, double yaw) {
 
 std::shared_ptr<const TriangleMesh> distractorMesh(const DistractorSpec& d) {
   switch (d.shape) {
-    case Shape::Box: return std::make_shared<TriangleMesh>(makeBox(d.size, 2));
-    case Shape::Cylinder: return std::make_shared<TriangleMesh>(makeCylinder(d.radius, d.height, 48));
-    case Shape::Sphere: return std::make_shared<TriangleMesh>(makeSphere(d.radius, 48, 24));
+    case Shape::Box:
+      return std::make_shared<TriangleMesh>(makeBox(d.size, 2));
+    case Shape::Cylinder:
+      return std::make_shared<TriangleMesh>(makeCylinder(d.radius, d.height, 48));
+    case Shape::Sphere:
+      return std::make_shared<TriangleMesh>(makeSphere(d.radius, 48, 24));
   }
   return nullptr;
 }
@@ -54,19 +58,23 @@ ScenarioWorld::ScenarioWorld(const Scenario& scenario) : s_(scenario) {
   scene_ = std::make_unique<RaycastScene>();
   scene_->setStaticMap(s_.static_map, kStaticMapNode);
   colours_.static_map = kStaticMapNode;
-  style_.wall_height = s_.world.kind == WorldSpec::Kind::Building ? s_.world.building.wall_height
-                                                                  : s_.static_map->boundingBox().max().z();
+  style_.wall_height = s_.world.kind == WorldSpec::Kind::Building
+                           ? s_.world.building.wall_height
+                           : s_.static_map->boundingBox().max().z();
   std::map<std::string, MeshId> class_mesh;
   for (std::size_t i = 0; i < s_.objects.size(); ++i) {
     const ObjectSpec& o = s_.objects[i];
     auto it = class_mesh.find(o.class_name);
-    if (it == class_mesh.end()) it = class_mesh.emplace(o.class_name, scene_->addMesh(s_.catalog->get(o.class_name).mesh)).first;
+    if (it == class_mesh.end())
+      it = class_mesh.emplace(o.class_name, scene_->addMesh(s_.catalog->get(o.class_name).mesh))
+               .first;
     scene_->addInstance(objectNode(i), it->second, o.trajectory.at(0.0));
     colours_.albedo[objectNode(i)] = o.color ? *o.color : classColour(o.class_name);
   }
   for (std::size_t i = 0; i < s_.distractors.size(); ++i) {
     const DistractorSpec& d = s_.distractors[i];
-    scene_->addInstance(distractorNode(i), scene_->addMesh(distractorMesh(d)), d.trajectory.at(0.0));
+    scene_->addInstance(distractorNode(i), scene_->addMesh(distractorMesh(d)),
+                        d.trajectory.at(0.0));
     colours_.albedo[distractorNode(i)] = d.color;
   }
   scene_->commit();
@@ -82,7 +90,8 @@ ScenarioWorld::~ScenarioWorld() = default;
 Label ScenarioWorld::labelOf(NodeId node) const {
   if (node == kStaticMapNode) return kLabelStaticMap;
   if (node >= kFirstObjectNode && node < objectNode(s_.objects.size())) return kLabelObject;
-  if (node >= kFirstDistractorNode && node < distractorNode(s_.distractors.size())) return kLabelDistractor;
+  if (node >= kFirstDistractorNode && node < distractorNode(s_.distractors.size()))
+    return kLabelDistractor;
   return kLabelNoReturn;
 }
 
@@ -102,7 +111,8 @@ void ScenarioWorld::simulateOdometry() {
     const double dyaw = std::atan2(d.linear()(1, 0), d.linear()(0, 0));
     const double st = s_.noise.odom_translation_sigma * std::sqrt(dist);
     const double sr = s_.noise.odom_rotation_sigma * std::sqrt(dist + std::abs(dyaw));
-    const double dx = d.translation().x() + st * gauss(rng), dy = d.translation().y() + st * gauss(rng);
+    const double dx = d.translation().x() + st * gauss(rng),
+                 dy = d.translation().y() + st * gauss(rng);
     x += std::cos(yaw) * dx - std::sin(yaw) * dy;
     y += std::sin(yaw) * dx + std::cos(yaw) * dy;
     yaw += dyaw + sr * gauss(rng);
@@ -120,7 +130,8 @@ Eigen::Isometry3d ScenarioWorld::odometry(double t) const {
 
 // ---------------------------------------------------------------------------- sensors
 void ScenarioWorld::setTime(double t) {
-  for (std::size_t i = 0; i < s_.objects.size(); ++i) scene_->setInstancePose(objectNode(i), s_.objects[i].trajectory.at(t));
+  for (std::size_t i = 0; i < s_.objects.size(); ++i)
+    scene_->setInstancePose(objectNode(i), s_.objects[i].trajectory.at(t));
   for (std::size_t i = 0; i < s_.distractors.size(); ++i)
     scene_->setInstancePose(distractorNode(i), s_.distractors[i].trajectory.at(t));
   scene_->commit();
@@ -141,12 +152,14 @@ CameraFrame ScenarioWorld::renderCamera(double t, std::uint64_t frame_index) {
   const std::size_t n = scan.range.size();
   std::vector<float> z(n, kNaN);
   for (std::size_t i = 0; i < n; ++i)
-    if (scan.node[i] != kNoNode && scan.range[i] >= rays.range_min && scan.range[i] <= rays.range_max)
+    if (scan.node[i] != kNoNode && scan.range[i] >= rays.range_min &&
+        scan.range[i] <= rays.range_max)
       z[i] = scan.points[i].z();
   const NoiseSpec& noise = s_.noise;
-  const float cos_limit = noise.depth_max_incidence_deg >= 90.0
-                              ? -1.0f
-                              : static_cast<float>(std::cos(noise.depth_max_incidence_deg * M_PI / 180.0));
+  const float cos_limit =
+      noise.depth_max_incidence_deg >= 90.0
+          ? -1.0f
+          : static_cast<float>(std::cos(noise.depth_max_incidence_deg * M_PI / 180.0));
   const auto jump = static_cast<float>(noise.depth_edge_jump);
   std::vector<float> ranges(n, kNaN);
   tbb::parallel_for(0, H, [&](int v) {
@@ -166,8 +179,10 @@ CameraFrame ScenarioWorld::renderCamera(double t, std::uint64_t frame_index) {
       ranges[i] = scan.range[i];
     }
   });
-  RangeMeasurements m = fromRanges(s_.camera.model, camera_rays_, std::move(ranges), f.T_map_camera, "camera");
-  if (noise.depth_sigma_at_1m > 0.0) addDepthNoise(m, noise.depth_sigma_at_1m, seedFor(s_.seed, kDepthNoise, frame_index));
+  RangeMeasurements m =
+      fromRanges(s_.camera.model, camera_rays_, std::move(ranges), f.T_map_camera, "camera");
+  if (noise.depth_sigma_at_1m > 0.0)
+    addDepthNoise(m, noise.depth_sigma_at_1m, seedFor(s_.seed, kDepthNoise, frame_index));
 
   f.depth.assign(n, kNaN);
   f.labels.assign(n, kLabelNoReturn);
@@ -178,7 +193,8 @@ CameraFrame ScenarioWorld::renderCamera(double t, std::uint64_t frame_index) {
     f.depth[i] = m.range[i] * rays.directions[i].z();
     f.node[i] = scan.node[i];
     f.labels[i] = labelOf(scan.node[i]);
-    if (f.labels[i] == kLabelObject) ++f.visible_pixels[static_cast<std::size_t>(scan.node[i] - kFirstObjectNode)];
+    if (f.labels[i] == kLabelObject)
+      ++f.visible_pixels[static_cast<std::size_t>(scan.node[i] - kFirstObjectNode)];
   }
   f.T_map_objects.reserve(s_.objects.size());
   for (const auto& o : s_.objects) f.T_map_objects.push_back(o.trajectory.at(t));
@@ -196,10 +212,13 @@ LidarFrame ScenarioWorld::scanLidar(double t, std::uint64_t frame_index) {
   const std::size_t n = scan.range.size();
   std::vector<float> ranges(n, kNaN);
   for (std::size_t i = 0; i < n; ++i)
-    if (scan.node[i] != kNoNode && scan.range[i] >= rays.range_min && scan.range[i] <= rays.range_max)
+    if (scan.node[i] != kNoNode && scan.range[i] >= rays.range_min &&
+        scan.range[i] <= rays.range_max)
       ranges[i] = scan.range[i];
-  RangeMeasurements m = fromRanges(s_.lidar.model, lidar_rays_, std::move(ranges), f.T_map_lidar, "velodyne");
-  if (s_.noise.lidar_range_sigma > 0.0) addRangeNoise(m, s_.noise.lidar_range_sigma, seedFor(s_.seed, kLidarNoise, frame_index));
+  RangeMeasurements m =
+      fromRanges(s_.lidar.model, lidar_rays_, std::move(ranges), f.T_map_lidar, "velodyne");
+  if (s_.noise.lidar_range_sigma > 0.0)
+    addRangeNoise(m, s_.noise.lidar_range_sigma, seedFor(s_.seed, kLidarNoise, frame_index));
   f.range = std::move(m.range);
   f.intensity.assign(n, 0.0f);
   f.labels.assign(n, kLabelNoReturn);
@@ -212,7 +231,8 @@ LidarFrame ScenarioWorld::scanLidar(double t, std::uint64_t frame_index) {
 }
 
 // ---------------------------------------------------------------------------- detections
-std::vector<Hypothesis> ScenarioWorld::detect(const CameraFrame& frame, std::uint64_t frame_index) const {
+std::vector<Hypothesis> ScenarioWorld::detect(const CameraFrame& frame,
+                                              std::uint64_t frame_index) const {
   std::vector<Hypothesis> out;
   const DetectionSpec& d = s_.detections;
   if (!d.enabled) return out;
@@ -228,10 +248,12 @@ std::vector<Hypothesis> ScenarioWorld::detect(const CameraFrame& frame, std::uin
     h.class_name = s_.objects[i].class_name;
     h.object = static_cast<int>(i);
     h.T_camera_object = T_camera_map * frame.T_map_objects[i];
-    h.T_camera_object.translation() += d.sigma_t * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    h.T_camera_object.translation() +=
+        d.sigma_t * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
     const Eigen::Vector3d w = sigma_r * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
     if (w.norm() > 0.0)
-      h.T_camera_object.linear() = h.T_camera_object.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+      h.T_camera_object.linear() = h.T_camera_object.linear() *
+                                   Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
     const double seen = std::min(1.0, frame.visible_pixels[i] / 2000.0);
     h.score = static_cast<float>(std::clamp(0.55 + 0.4 * seen + 0.03 * gauss(rng), 0.05, 1.0));
     out.push_back(std::move(h));
@@ -243,17 +265,23 @@ std::vector<Hypothesis> ScenarioWorld::detect(const CameraFrame& frame, std::uin
     const std::vector<std::string> names = s_.catalog->names();
     const SensorRays& rays = *camera_rays_;
     for (int j = 0; j < k; ++j) {
-      const std::string& cls = names[std::uniform_int_distribution<std::size_t>(0, names.size() - 1)(rng)];
+      const std::string& cls =
+          names[std::uniform_int_distribution<std::size_t>(0, names.size() - 1)(rng)];
       std::size_t pixel = frame.depth.size();
       for (int tries = 0; tries < 100 && pixel == frame.depth.size(); ++tries) {
-        const std::size_t p = std::uniform_int_distribution<std::size_t>(0, frame.depth.size() - 1)(rng);
+        const std::size_t p =
+            std::uniform_int_distribution<std::size_t>(0, frame.depth.size() - 1)(rng);
         if (std::isfinite(frame.depth[p])) pixel = p;
       }
       if (pixel == frame.depth.size()) break;
-      const Eigen::Vector3d p_cam = (rays.directions[pixel] * (frame.depth[pixel] / rays.directions[pixel].z())).cast<double>();
+      const Eigen::Vector3d p_cam =
+          (rays.directions[pixel] * (frame.depth[pixel] / rays.directions[pixel].z()))
+              .cast<double>();
       Eigen::Isometry3d T_map = Eigen::Isometry3d::Identity();
-      T_map.linear() = Eigen::AngleAxisd(2.0 * M_PI * uniform(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-      T_map.translation() = frame.T_map_camera * p_cam - Eigen::Vector3d::UnitZ() * s_.catalog->get(cls).box.min().z();
+      T_map.linear() =
+          Eigen::AngleAxisd(2.0 * M_PI * uniform(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      T_map.translation() = frame.T_map_camera * p_cam -
+                            Eigen::Vector3d::UnitZ() * s_.catalog->get(cls).box.min().z();
       Hypothesis h;
       h.class_name = cls;
       h.T_camera_object = T_camera_map * T_map;

@@ -4,7 +4,8 @@
 
 namespace sgt {
 
-SimulatedScan simulate(const RaycastScene& scene, const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor) {
+SimulatedScan simulate(const RaycastScene& scene, const SensorRays& rays,
+                       const Eigen::Isometry3d& T_world_sensor) {
   RayHits hits;
   scene.cast(rays, T_world_sensor, hits);
   SimulatedScan out;

@@ -30,8 +30,8 @@ std_msgs::Header header(const ::ros::Time& stamp, const char* frame) {
   return h;
 }
 
-geometry_msgs::TransformStamped transform(const ::ros::Time& stamp, const char* parent, const char* child,
-                                          const Eigen::Isometry3d& T) {
+geometry_msgs::TransformStamped transform(const ::ros::Time& stamp, const char* parent,
+                                          const char* child, const Eigen::Isometry3d& T) {
   geometry_msgs::TransformStamped t;
   t.header = header(stamp, parent);
   t.child_frame_id = child;
@@ -39,7 +39,8 @@ geometry_msgs::TransformStamped transform(const ::ros::Time& stamp, const char* 
   return t;
 }
 
-sensor_msgs::Image image(const std_msgs::Header& h, int width, int height, const std::string& encoding, int channels,
+sensor_msgs::Image image(const std_msgs::Header& h, int width, int height,
+                         const std::string& encoding, int channels,
                          std::vector<std::uint8_t> data) {
   sensor_msgs::Image img;
   img.header = h;
@@ -116,13 +117,15 @@ class BundleQueue {
 
 }  // namespace
 
-ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& path, const ProgressCallback& progress,
+ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& path,
+                                    const ProgressCallback& progress,
                                     const ScenarioBagOptions& options) {
   sim::ScenarioWorld world(s);
   const std::vector<std::int64_t> camera_ns = sim::frameTimesNs(s.camera.rate, s.duration);
   const std::vector<std::int64_t> lidar_ns = sim::frameTimesNs(s.lidar.rate, s.duration);
   std::vector<std::int64_t> all_ns;
-  std::set_union(camera_ns.begin(), camera_ns.end(), lidar_ns.begin(), lidar_ns.end(), std::back_inserter(all_ns));
+  std::set_union(camera_ns.begin(), camera_ns.end(), lidar_ns.begin(), lidar_ns.end(),
+                 std::back_inserter(all_ns));
   const std::int64_t start_ns = std::llround(s.start_time * 1e9);
   auto stampOf = [&](std::int64_t t_ns) {
     ::ros::Time stamp;
@@ -143,12 +146,15 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
   {
     const ::ros::Time t0 = stampOf(all_ns.front());
     tf2_msgs::TFMessage tf_static;
-    tf_static.transforms.push_back(transform(t0, frames::kBase, frames::kCamera, s.camera.T_base_camera));
-    tf_static.transforms.push_back(transform(t0, frames::kBase, frames::kLidar, s.lidar.T_base_lidar));
+    tf_static.transforms.push_back(
+        transform(t0, frames::kBase, frames::kCamera, s.camera.T_base_camera));
+    tf_static.transforms.push_back(
+        transform(t0, frames::kBase, frames::kLidar, s.lidar.T_base_lidar));
     bag.write(topics::kTfStatic, t0, tf_static, latched(tf_static));
     // The odometry prior's map -> odom goes on its own topic, not on /tf: on replay the tracker
     // publishes the corrected map -> odom, and two publishers of one transform fight.
-    const geometry_msgs::TransformStamped prior = transform(t0, frames::kMap, frames::kOdom, world.mapToOdom());
+    const geometry_msgs::TransformStamped prior =
+        transform(t0, frames::kMap, frames::kOdom, world.mapToOdom());
     bag.write(topics::kMapOdomPrior, t0, prior, latched(prior));
   }
 
@@ -165,7 +171,8 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
         auto b = std::make_unique<Bundle>();
         const double t = static_cast<double>(t_ns) * 1e-9;
         const ::ros::Time stamp = b->stamp = stampOf(t_ns);
-        b->tf.transforms.push_back(transform(stamp, frames::kOdom, frames::kBase, world.odometry(t)));
+        b->tf.transforms.push_back(
+            transform(stamp, frames::kOdom, frames::kBase, world.odometry(t)));
         b->base.header = header(stamp, frames::kMap);
         b->base.pose = toPose(world.basePose(t));
 
@@ -175,10 +182,12 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
           b->camera = true;
           b->info = toCameraInfo(cam);
           b->info.header = h;
-          b->rgb = image(h, cam.width, cam.height, sensor_msgs::image_encodings::RGB8, 3, std::move(f.rgb));
+          b->rgb = image(h, cam.width, cam.height, sensor_msgs::image_encodings::RGB8, 3,
+                         std::move(f.rgb));
           b->depth = depthToImage(f.depth, cam.width, cam.height);
           b->depth.header = h;
-          b->depth_labels = image(h, cam.width, cam.height, sensor_msgs::image_encodings::MONO8, 1, std::move(f.labels));
+          b->depth_labels = image(h, cam.width, cam.height, sensor_msgs::image_encodings::MONO8, 1,
+                                  std::move(f.labels));
           b->truth.header = header(stamp, frames::kMap);
           for (std::size_t i = 0; i < s.objects.size(); ++i) {
             scene_graph_tracker::ObjectPose o;
@@ -202,8 +211,9 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
           b->lidar = true;
           b->cloud = cloudFromRanges(f.range, lidar_rays, f.intensity);
           b->cloud.header = header(stamp, frames::kLidar);
-          b->lidar_labels = image(header(stamp, frames::kLidar), lidar_rays.width, lidar_rays.height,
-                                  sensor_msgs::image_encodings::MONO8, 1, std::move(f.labels));
+          b->lidar_labels =
+              image(header(stamp, frames::kLidar), lidar_rays.width, lidar_rays.height,
+                    sensor_msgs::image_encodings::MONO8, 1, std::move(f.labels));
           ++li;
         }
         if (!queue.push(std::move(b))) return;  // the writer failed

@@ -63,7 +63,8 @@ std::unique_ptr<BenchScene> benchScene() {
   auto b = std::make_unique<BenchScene>();
   const Building& building = coarseBuilding();
   b->map = std::make_shared<TriangleMesh>(building.mesh);
-  b->catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  b->catalog = std::make_shared<ObjectCatalog>(
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
   b->world = std::make_unique<RaycastScene>();
   b->world->setStaticMap(b->map, 1);
   b->top = building.workbench_top_centre.cast<double>();
@@ -77,12 +78,14 @@ std::unique_ptr<BenchScene> benchScene() {
   }
   b->world->commit();
   b->T_map_base = poseXyzYaw(Eigen::Vector3d(b->top.x(), b->top.y() + 1.1, 0.0), -M_PI / 2);
-  b->T_base_camera = b->T_map_base.inverse() * opticalLookAt(b->T_map_base * Eigen::Vector3d(0.1, 0, 1.25), b->top);
+  b->T_base_camera = b->T_map_base.inverse() *
+                     opticalLookAt(b->T_map_base * Eigen::Vector3d(0.1, 0, 1.25), b->top);
   b->T_base_lidar = poseXyzYaw(Eigen::Vector3d(0, 0, 0.9), 0.0);
   return b;
 }
 
-std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench, double distance) {
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench,
+                                                               double distance) {
   const Eigen::Isometry3d T_map_base =
       poseXyzYaw(bench.top + Eigen::Vector3d(0.0, distance, -bench.top.z()), -M_PI / 2);
   return {T_map_base, opticalLookAt(T_map_base * Eigen::Vector3d(0.1, 0, 1.25), bench.top)};

@@ -9,10 +9,10 @@
 #include <string>
 #include <utility>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 
 namespace sgt::test {
 
@@ -23,7 +23,7 @@ std::string writeFile(const std::string& name, const std::string& text);
 
 // ../shared/data/pbr_objects (or $SGT_PBR_OBJECTS) when present.
 std::optional<std::string> pbrObjectsDir();
-#define SGT_REQUIRE_PBR_OBJECTS(var)                                                  \
+#define SGT_REQUIRE_PBR_OBJECTS(var)                                                 \
   const auto var##_opt = ::sgt::test::pbrObjectsDir();                               \
   if (!var##_opt) GTEST_SKIP() << "../shared/data/pbr_objects not present: skipped"; \
   const std::string var = *var##_opt
@@ -53,7 +53,8 @@ std::unique_ptr<BenchScene> benchScene();
 
 // The robot `distance` m in front of the bench, facing it, and its camera (1.25 m high) looking
 // at the bench top: T_map_base, T_map_camera.
-std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench, double distance);
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> facingTheBench(const BenchScene& bench,
+                                                               double distance);
 
 // A QVGA depth image (the Xtion at 320 x 240): a quarter of the rays on an object.
 PinholeModel qvgaCam();

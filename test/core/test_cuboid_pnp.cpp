@@ -11,19 +11,21 @@ using namespace sgt::detection;
 
 namespace {
 
-const Eigen::AlignedBox3d kBox(Eigen::Vector3d(-0.09, -0.044, -0.021), Eigen::Vector3d(0.09, 0.044, 0.021));  // multimeter-ish
+const Eigen::AlignedBox3d kBox(Eigen::Vector3d(-0.09, -0.044, -0.021),
+                               Eigen::Vector3d(0.09, 0.044, 0.021));  // multimeter-ish
 
 Eigen::Isometry3d truePose() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(-0.7, Eigen::Vector3d::UnitY()) *
+  T.linear() = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(-0.7, Eigen::Vector3d::UnitY()) *
                 Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
                    .toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.1, -0.05, 0.9);
   return T;
 }
 
-std::vector<Keypoint> project(const Eigen::Isometry3d& T, const PinholeModel& cam, double noise_px = 0.0,
-                              unsigned seed = 1) {
+std::vector<Keypoint> project(const Eigen::Isometry3d& T, const PinholeModel& cam,
+                              double noise_px = 0.0, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, noise_px);
   std::vector<Keypoint> kps;
@@ -46,11 +48,11 @@ double translationError(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) 
 
 TEST(Cuboid, DopeOrder) {
   const auto k = cuboidKeypoints(kBox);
-  EXPECT_TRUE(k[0].isApprox(Eigen::Vector3d(0.09, 0.044, 0.021)));    // front top right
-  EXPECT_TRUE(k[1].isApprox(Eigen::Vector3d(-0.09, 0.044, 0.021)));   // front top left
-  EXPECT_TRUE(k[2].isApprox(Eigen::Vector3d(-0.09, -0.044, 0.021)));  // front bottom left
-  EXPECT_TRUE(k[3].isApprox(Eigen::Vector3d(0.09, -0.044, 0.021)));   // front bottom right
-  EXPECT_TRUE(k[6].isApprox(Eigen::Vector3d(-0.09, -0.044, -0.021))); // rear bottom left
+  EXPECT_TRUE(k[0].isApprox(Eigen::Vector3d(0.09, 0.044, 0.021)));     // front top right
+  EXPECT_TRUE(k[1].isApprox(Eigen::Vector3d(-0.09, 0.044, 0.021)));    // front top left
+  EXPECT_TRUE(k[2].isApprox(Eigen::Vector3d(-0.09, -0.044, 0.021)));   // front bottom left
+  EXPECT_TRUE(k[3].isApprox(Eigen::Vector3d(0.09, -0.044, 0.021)));    // front bottom right
+  EXPECT_TRUE(k[6].isApprox(Eigen::Vector3d(-0.09, -0.044, -0.021)));  // rear bottom left
   EXPECT_TRUE(k[8].isZero());
   // A model transform moves the corners into the object frame.
   Eigen::Isometry3d T_model_object = Eigen::Isometry3d::Identity();
@@ -74,7 +76,8 @@ TEST(CuboidPnp, OnePixelNoiseStaysWithinCentimetres) {
     const auto r = solveCuboidPnp(project(truePose(), cam, 1.0, seed), cuboidKeypoints(kBox), cam);
     ASSERT_TRUE(r.ok()) << pnpStatusName(r.status);
     EXPECT_LT(translationError(r.T_camera_object, truePose()), 0.03) << "seed " << seed;
-    EXPECT_LT(test::rotationErrorDeg(r.T_camera_object.linear(), truePose().linear()), 5.0) << "seed " << seed;
+    EXPECT_LT(test::rotationErrorDeg(r.T_camera_object.linear(), truePose().linear()), 5.0)
+        << "seed " << seed;
     EXPECT_GT(r.reprojection_rms_px, 0.2);
     EXPECT_LT(r.reprojection_rms_px, 2.0);
   }
@@ -85,14 +88,16 @@ TEST(CuboidPnp, FourAndFivePointsUseP3PFamily) {
   for (int visible : {4, 5}) {
     auto kps = project(truePose(), cam);
     // Keep front top right, front top left, rear bottom left (+ centre): non-coplanar sets.
-    const std::vector<int> keep = visible == 4 ? std::vector<int>{0, 1, 6, 8} : std::vector<int>{0, 1, 3, 6, 8};
+    const std::vector<int> keep =
+        visible == 4 ? std::vector<int>{0, 1, 6, 8} : std::vector<int>{0, 1, 3, 6, 8};
     for (int k = 0; k < 9; ++k)
       if (std::find(keep.begin(), keep.end(), k) == keep.end()) kps[k].visibility = 0.1f;
     const auto r = solveCuboidPnp(kps, cuboidKeypoints(kBox), cam);
     ASSERT_TRUE(r.ok()) << visible << ": " << pnpStatusName(r.status);
     EXPECT_EQ(r.points_used, visible);
     EXPECT_LT(translationError(r.T_camera_object, truePose()), 1e-4) << visible;
-    EXPECT_LT(test::rotationErrorDeg(r.T_camera_object.linear(), truePose().linear()), 0.05) << visible;
+    EXPECT_LT(test::rotationErrorDeg(r.T_camera_object.linear(), truePose().linear()), 0.05)
+        << visible;
   }
 }
 
@@ -124,12 +129,14 @@ TEST(CuboidPnp, ObjectBehindTheCameraIsNeverAccepted) {
   std::vector<Keypoint> kps;
   for (const auto& p : points) {
     const Eigen::Vector3d q = behind * p;
-    kps.push_back({Eigen::Vector2d(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy), 1.0f});
+    kps.push_back(
+        {Eigen::Vector2d(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy), 1.0f});
   }
   PnpOptions opt;
   opt.max_reprojection_px = 3.0;
   const auto r = solveCuboidPnp(kps, points, cam, opt);
-  EXPECT_FALSE(r.ok()) << "z = " << r.T_camera_object.translation().z() << ", rms " << r.reprojection_rms_px;
+  EXPECT_FALSE(r.ok()) << "z = " << r.T_camera_object.translation().z() << ", rms "
+                       << r.reprojection_rms_px;
   EXPECT_NE(r.status, PnpStatus::TooFewPoints);
   // The same points in front of the camera are solved exactly.
   Eigen::Isometry3d front = behind;
@@ -137,7 +144,8 @@ TEST(CuboidPnp, ObjectBehindTheCameraIsNeverAccepted) {
   kps.clear();
   for (const auto& p : points) {
     const Eigen::Vector3d q = front * p;
-    kps.push_back({Eigen::Vector2d(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy), 1.0f});
+    kps.push_back(
+        {Eigen::Vector2d(cam.fx * q.x() / q.z() + cam.cx, cam.fy * q.y() / q.z() + cam.cy), 1.0f});
   }
   const auto f = solveCuboidPnp(kps, points, cam, opt);
   ASSERT_TRUE(f.ok()) << pnpStatusName(f.status);

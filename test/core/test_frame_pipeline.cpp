@@ -9,9 +9,9 @@
 #include <tuple>
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
@@ -21,16 +21,19 @@ namespace {
 
 TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
   const auto bench = test::benchScene();
-  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera, T_base_lidar] = *bench;
+  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base, T_base_camera,
+               T_base_lidar] = *bench;
   RaycastScene& world = *world_ptr;
   // An unknown box on the bench.
   const NodeId unknown_box = 30;
-  world.addInstance(unknown_box, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
+  world.addInstance(unknown_box,
+                    world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
                     test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
   world.commit();
 
   // Robot 1.1 m in front of the bench; odometry believes it is 20 cm / 3 deg elsewhere.
-  const Eigen::Isometry3d T_map_odom_true = test::poseXyzYaw(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
+  const Eigen::Isometry3d T_map_odom_true =
+      test::poseXyzYaw(Eigen::Vector3d(0.15, -0.13, 0.0), 3.0 * M_PI / 180.0);
   const Eigen::Isometry3d T_odom_base = T_map_odom_true.inverse() * T_map_base;
   const PinholeModel cam = PinholeModel::xtion();
   auto cam_rays = std::make_shared<SensorRays>(makeRays(cam));
@@ -47,39 +50,47 @@ TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
     PipelineFrame frame;
     frame.stamp = f / 30.0;
     frame.T_odom_base = T_odom_base;
-    frame.measurements.push_back(
-        fromDepthImage(cam, cam_rays, depthImage(cam_scan, *cam_rays), T_odom_base * T_base_camera));
+    frame.measurements.push_back(fromDepthImage(cam, cam_rays, depthImage(cam_scan, *cam_rays),
+                                                T_odom_base * T_base_camera));
     addDepthNoise(frame.measurements.back(), 0.0015, 100 + f);
     if (f % 3 == 0) {  // LiDAR at a third of the camera rate
-      frame.measurements.push_back(
-          fromRanges(SpinningLidarModel::vlp16(), lidar_rays, lidar_scan.range, T_odom_base * T_base_lidar));
+      frame.measurements.push_back(fromRanges(SpinningLidarModel::vlp16(), lidar_rays,
+                                              lidar_scan.range, T_odom_base * T_base_lidar));
       addRangeNoise(frame.measurements.back(), 0.01, 200 + f);
     }
     // Detections with 1 cm / 3 deg noise, and a multimeter where there is none (first frame).
     for (std::size_t k = 0; k < classes.size(); ++k) {
       Eigen::Isometry3d T = truth[k];
       T.translation() += 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
-      T.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0 * g(rng), Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) *
+      T.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0 * g(rng),
+                                     Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) *
                    T.linear();
       frame.hypotheses.push_back({classes[k], T_map_base.inverse() * T, 0.9});
     }
-    if (f == 0) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * test::poseXyzYaw(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
+    if (f == 0)
+      frame.hypotheses.push_back(
+          {"multimeter",
+           T_map_base.inverse() * test::poseXyzYaw(top + Eigen::Vector3d(0.2, 0.3, 0.3), 0), 0.8});
     r = pipeline.process(frame);
     dropped.insert(dropped.end(), r.dropped.begin(), r.dropped.end());
   }
 
   // The robot: corrected to well within the localization goal (2 cm / 0.5 deg).
   EXPECT_LT((r.T_map_base.translation() - T_map_base.translation()).norm(), 0.01);
-  EXPECT_LT(Eigen::AngleAxisd(r.T_map_base.linear().transpose() * T_map_base.linear()).angle() * 180 / M_PI, 0.3);
+  EXPECT_LT(Eigen::AngleAxisd(r.T_map_base.linear().transpose() * T_map_base.linear()).angle() *
+                180 / M_PI,
+            0.3);
   // The objects: one track per real object, ADD-S below the 1 cm detection noise. The generated
   // meshes are coarse boxes-and-cylinders, so 5 mm leaves room for their ambiguity.
   ASSERT_EQ(r.objects.size(), 5u) << "the false multimeter must have been dropped";
   EXPECT_EQ(dropped, std::vector<std::string>{"multimeter_2"});
   for (const TrackedObject& o : r.objects) {
-    const auto k = static_cast<std::size_t>(std::find(classes.begin(), classes.end(), o.class_name) - classes.begin());
+    const auto k = static_cast<std::size_t>(
+        std::find(classes.begin(), classes.end(), o.class_name) - classes.begin());
     ASSERT_LT(k, classes.size());
     const ObjectClass& c = catalog->get(o.class_name);
-    const PoseErrors e = poseErrors(c, sampleSurface(*c.mesh, 300, 1).points, o.T_map_object, truth[k]);
+    const PoseErrors e =
+        poseErrors(c, sampleSurface(*c.mesh, 300, 1).points, o.T_map_object, truth[k]);
     EXPECT_LT(e.add_s, 0.005) << o.id;
     EXPECT_EQ(o.quality.status, RefineStatus::kOk) << o.id;
   }
@@ -94,7 +105,8 @@ TEST(FramePipeline, LocalizesRefinesSegmentsAndDropsAFalseDetection) {
 }
 
 TEST(FramePipeline, EmptyFramesKeepItRunning) {
-  auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  auto catalog = std::make_shared<ObjectCatalog>(
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
   FramePipeline pipeline(catalog, std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})));
   PipelineFrame empty;
   const PipelineResult r = pipeline.process(empty);
@@ -115,7 +127,9 @@ struct UnknownThingView {
   static constexpr NodeId kThing = 30;
   UnknownThingView(TriangleMesh thing, const Eigen::Isometry3d& T_map_thing) {
     bench = test::benchScene();
-    bench->world->addInstance(kThing, bench->world->addMesh(std::make_shared<TriangleMesh>(std::move(thing))), T_map_thing);
+    bench->world->addInstance(
+        kThing, bench->world->addMesh(std::make_shared<TriangleMesh>(std::move(thing))),
+        T_map_thing);
     bench->world->commit();
     rays = std::make_shared<SensorRays>(makeRays(cam));
     scan = simulate(*bench->world, *rays, bench->T_map_base * bench->T_base_camera);
@@ -137,7 +151,8 @@ struct UnknownThingView {
 // points, so the carton stays unknown in every frame.
 TEST(FramePipeline, OneFalseDetectionOnAnUnknownBoxIsNeitherConfirmedNorHidesIt) {
   const Eigen::Vector3d top = test::benchScene()->top;
-  const Eigen::Isometry3d T_carton = test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.045), 0.1);
+  const Eigen::Isometry3d T_carton =
+      test::poseXyzYaw(top + Eigen::Vector3d(-0.1, -0.25, 0.045), 0.1);
   const UnknownThingView view(makeBox({0.17f, 0.125f, 0.09f}), T_carton);
   const NodeId carton = UnknownThingView::kThing;
   const SimulatedScan& scan = view.scan;
@@ -153,7 +168,8 @@ TEST(FramePipeline, OneFalseDetectionOnAnUnknownBoxIsNeitherConfirmedNorHidesIt)
     const PipelineResult r = pipeline.process(frame);
     present_at_end = false;
     for (const TrackedObject& o : r.objects)
-      if (o.class_name == "materialbox") confirmed |= o.state != TrackState::kTentative, present_at_end = true;
+      if (o.class_name == "materialbox")
+        confirmed |= o.state != TrackState::kTentative, present_at_end = true;
     std::size_t pixels = 0, unknown = 0;
     for (std::size_t i = 0; i < scan.node.size(); ++i)
       if (scan.node[i] == carton && r.measurements[0].valid(i))
@@ -206,9 +222,11 @@ bool falseDetectionsOnAPostConfirmed(double confirm_inlier_ratio, double min_fit
 
 TEST(FramePipeline, RepeatedFalseDetectionsOnAPostAreNotConfirmed) {
   const PipelineOptions defaults;
-  EXPECT_FALSE(falseDetectionsOnAPostConfirmed(defaults.confirm_inlier_ratio, defaults.min_fit_support));
+  EXPECT_FALSE(
+      falseDetectionsOnAPostConfirmed(defaults.confirm_inlier_ratio, defaults.min_fit_support));
   // Confirmation by detections and any fit (the rule before): confirmed.
-  EXPECT_TRUE(falseDetectionsOnAPostConfirmed(0.0, 0.0)) << "the scene must make the crate fit the post (else no test)";
+  EXPECT_TRUE(falseDetectionsOnAPostConfirmed(0.0, 0.0))
+      << "the scene must make the crate fit the post (else no test)";
 }
 
 // A real KLT, held up, is confirmed; then it is gone and the unknown post stands there, while
@@ -234,7 +252,8 @@ std::pair<std::size_t, bool> confirmedTrackOnAPostAfterTheCrateLeft(double min_f
     frame.hypotheses.push_back({"klt", view.bench->T_map_base.inverse() * post.T_on_ball, 0.9});
     const PipelineResult r = pipeline.process(frame);
     crate_left = false;
-    for (const TrackedObject& o : r.objects) crate_left |= o.class_name == "klt" && o.state != TrackState::kTentative;
+    for (const TrackedObject& o : r.objects)
+      crate_left |= o.class_name == "klt" && o.state != TrackState::kTentative;
     if (f == 14) {
       EXPECT_TRUE(crate_left) << "the real crate is confirmed";
     }
@@ -248,7 +267,8 @@ std::pair<std::size_t, bool> confirmedTrackOnAPostAfterTheCrateLeft(double min_f
 }
 
 TEST(FramePipeline, AConfirmedTrackTheMeasurementsContradictGoes) {
-  const auto [unknown, left] = confirmedTrackOnAPostAfterTheCrateLeft(PipelineOptions().min_fit_support);
+  const auto [unknown, left] =
+      confirmedTrackOnAPostAfterTheCrateLeft(PipelineOptions().min_fit_support);
   EXPECT_FALSE(left);
   EXPECT_GE(unknown, 95u) << "% of the post's points labelled unknown at the end";
   const auto [unknown_before, left_before] = confirmedTrackOnAPostAfterTheCrateLeft(0.0);
@@ -263,7 +283,8 @@ TEST(FramePipeline, AConfirmedTrackTheMeasurementsContradictGoes) {
 // off (max_sunk_fraction 1). Returns the longest life of a relay track over 2 s.
 double longestRelayTrackBehindTheRobot(double z_offset, double max_sunk_fraction) {
   const Eigen::Vector3d top = test::benchScene()->top;
-  const UnknownThingView view(makeBox({0.05f, 0.05f, 0.05f}), test::poseXyzYaw(top + Eigen::Vector3d(0, 0, 0.3), 0.0));
+  const UnknownThingView view(makeBox({0.05f, 0.05f, 0.05f}),
+                              test::poseXyzYaw(top + Eigen::Vector3d(0, 0, 0.3), 0.0));
   PipelineOptions options;
   options.localize = false;
   options.max_sunk_fraction = max_sunk_fraction;
@@ -279,7 +300,8 @@ double longestRelayTrackBehindTheRobot(double z_offset, double max_sunk_fraction
     const PipelineResult r = pipeline.process(frame);
     for (const TrackedObject& o : r.objects) {
       if (o.class_name != "relay") continue;
-      EXPECT_EQ(o.quality.status, RefineStatus::kNotVisible) << "it must be out of view (else no test)";
+      EXPECT_EQ(o.quality.status, RefineStatus::kNotVisible)
+          << "it must be out of view (else no test)";
       longest = std::max(longest, r.stamp - o.first_seen);
     }
   }
@@ -335,9 +357,12 @@ double farScrewdriverError(int min_weak_fit_inliers, int* fewest_inliers) {
 
 TEST(FramePipeline, AFarSmallObjectsWeakFitsPlaceItsTentativeTrack) {
   int fewest = 0;
-  EXPECT_LT(farScrewdriverError(PipelineOptions().min_weak_fit_inliers, &fewest), 0.01) << "m, mean, last 0.5 s";
-  EXPECT_LT(fewest, PipelineOptions().refiner.alignment.min_points) << "its fits must be weak (else no test)";
-  EXPECT_GT(farScrewdriverError(1 << 20, &fewest), 0.03) << "m: without the rule it stays at the detection";
+  EXPECT_LT(farScrewdriverError(PipelineOptions().min_weak_fit_inliers, &fewest), 0.01)
+      << "m, mean, last 0.5 s";
+  EXPECT_LT(fewest, PipelineOptions().refiner.alignment.min_points)
+      << "its fits must be weak (else no test)";
+  EXPECT_GT(farScrewdriverError(1 << 20, &fewest), 0.03)
+      << "m: without the rule it stays at the detection";
 }
 
 // The material box is detected turned by 90 deg about z in every frame. For 2 s the robot is
@@ -358,12 +383,14 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   struct View {
     const PinholeModel* cam;
     std::shared_ptr<SensorRays> rays;
-    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity(), T_camera = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity(),
+                      T_camera = Eigen::Isometry3d::Identity();
     SimulatedScan scan = {};
   };
   std::vector<View> views{{&far_cam, far_rays}, {&cam, rays}};  // from 2.8 m, then from 1.1 m
   for (View& v : views) {
-    std::tie(v.T_map_base, v.T_camera) = test::facingTheBench(*bench, v.cam == &far_cam ? 2.8 : 1.1);
+    std::tie(v.T_map_base, v.T_camera) =
+        test::facingTheBench(*bench, v.cam == &far_cam ? 2.8 : 1.1);
     v.scan = simulate(*bench->world, *v.rays, v.T_camera);
   }
   PipelineOptions options;
@@ -378,7 +405,8 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
     PipelineFrame frame;
     frame.stamp = f / 30.0;
     frame.T_odom_base = v.T_map_base;
-    frame.measurements.push_back(fromDepthImage(*v.cam, v.rays, depthImage(v.scan, *v.rays), v.T_camera));
+    frame.measurements.push_back(
+        fromDepthImage(*v.cam, v.rays, depthImage(v.scan, *v.rays), v.T_camera));
     addDepthNoise(frame.measurements.back(), 0.0015, 1500 + f);
     frame.hypotheses.push_back({"materialbox", v.T_map_base.inverse() * turned, 0.9});
     const PipelineResult r = pipeline.process(frame);
@@ -392,7 +420,8 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
 
 TEST(FramePipeline, AConfirmedTrackThatExplainsTooLittleIsSearchedAgain) {
   EXPECT_LT(turnedMaterialBoxErrorDeg(PipelineOptions().research_below_fit_support), 5.0);
-  EXPECT_GT(turnedMaterialBoxErrorDeg(0.0), 45.0) << "without the rule it must keep the turn (else no test)";
+  EXPECT_GT(turnedMaterialBoxErrorDeg(0.0), 45.0)
+      << "without the rule it must keep the turn (else no test)";
 }
 
 // A robot driving past the bench with drifting odometry: every LiDAR frame corrects map -> odom.
@@ -402,7 +431,8 @@ TEST(FramePipeline, AConfirmedTrackThatExplainsTooLittleIsSearchedAgain) {
 // correction must stay a rotation, and the robot must stay localized over many corrections.
 TEST(FramePipeline, ManyCorrectionsKeepMapToOdomRigidAndTheRobotLocalized) {
   const auto bench = test::benchScene();
-  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base0, T_base_camera, T_base_lidar] = *bench;
+  const auto& [map, catalog, world_ptr, top, classes, truth, T_map_base0, T_base_camera,
+               T_base_lidar] = *bench;
   auto lidar_rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
   PipelineOptions options;
   options.run_presegmentation = false;
@@ -416,19 +446,24 @@ TEST(FramePipeline, ManyCorrectionsKeepMapToOdomRigidAndTheRobotLocalized) {
   const int frames = 60;
   for (int f = 0; f < frames; ++f) {
     // True motion: 1 cm back and 0.3 deg per frame; odometry adds 1 mm and 0.5 mrad of noise.
-    const Eigen::Isometry3d step = test::poseXyzYaw(Eigen::Vector3d(-0.01, 0.0, 0.0), 0.3 * M_PI / 180.0);
+    const Eigen::Isometry3d step =
+        test::poseXyzYaw(Eigen::Vector3d(-0.01, 0.0, 0.0), 0.3 * M_PI / 180.0);
     T_map_base = T_map_base * step;
-    T_odom_base = T_odom_base * step * test::poseXyzYaw(0.001 * Eigen::Vector3d(g(rng), g(rng), 0.0), 0.0005 * g(rng));
+    T_odom_base = T_odom_base * step *
+                  test::poseXyzYaw(0.001 * Eigen::Vector3d(g(rng), g(rng), 0.0), 0.0005 * g(rng));
     PipelineFrame frame;
     frame.stamp = f / 10.0;
     frame.T_odom_base = T_odom_base;
     const SimulatedScan scan = simulate(*world_ptr, *lidar_rays, T_map_base * T_base_lidar);
-    frame.measurements.push_back(fromRanges(SpinningLidarModel::vlp16(), lidar_rays, scan.range, T_odom_base * T_base_lidar));
+    frame.measurements.push_back(fromRanges(SpinningLidarModel::vlp16(), lidar_rays, scan.range,
+                                            T_odom_base * T_base_lidar));
     addRangeNoise(frame.measurements.back(), 0.008, 300 + f);
     const PipelineResult r = pipeline.process(frame);
     localized += r.localized;
     worst_orthonormality = std::max(worst_orthonormality, orthonormalityError(r.T_map_odom));
-    if (f >= 5) worst_error = std::max(worst_error, (r.T_map_base.translation() - T_map_base.translation()).norm());
+    if (f >= 5)
+      worst_error =
+          std::max(worst_error, (r.T_map_base.translation() - T_map_base.translation()).norm());
   }
   EXPECT_LT(worst_orthonormality, 1e-9);
   EXPECT_EQ(localized, frames);

@@ -27,7 +27,8 @@ struct Blob {
     mat = cv::Mat(3, sizes, CV_32F, cv::Scalar(0));
   }
   float& at(int c, int a) { return mat.ptr<float>()[c * n + a]; }
-  void set(int a, Eigen::Vector4f box, int cls, float score, const std::vector<Eigen::Vector3f>& kps) {
+  void set(int a, Eigen::Vector4f box, int cls, float score,
+           const std::vector<Eigen::Vector3f>& kps) {
     for (int i = 0; i < 4; ++i) at(i, a) = box[i];
     at(4 + cls, a) = score;
     const int nc = static_cast<int>(info.names.size());
@@ -54,7 +55,8 @@ TEST(Letterbox, GeometryOf640x480Into320Square) {
 
 TEST(Letterbox, ImageLandsWherePixelsMapAndPaddingIsGrey) {
   cv::Mat img(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
-  img(cv::Rect(200, 100, 40, 40)).setTo(cv::Scalar(255, 255, 255));  // white square 200..240 x 100..140
+  img(cv::Rect(200, 100, 40, 40))
+      .setTo(cv::Scalar(255, 255, 255));  // white square 200..240 x 100..140
   const Letterbox lb = letterboxGeometry(img.cols, img.rows, 320, 320);
   const cv::Mat in = letterbox(img, lb, 114);
   ASSERT_EQ(in.rows, 320);
@@ -62,8 +64,10 @@ TEST(Letterbox, ImageLandsWherePixelsMapAndPaddingIsGrey) {
   EXPECT_EQ(in.at<cv::Vec3b>(5, 5), cv::Vec3b(114, 114, 114));    // padding above
   EXPECT_EQ(in.at<cv::Vec3b>(315, 5), cv::Vec3b(114, 114, 114));  // padding below
   const Eigen::Vector2d centre = lb.toInput(Eigen::Vector2d(220, 120));
-  EXPECT_EQ(in.at<cv::Vec3b>(static_cast<int>(centre.y()), static_cast<int>(centre.x())), cv::Vec3b(255, 255, 255));
-  EXPECT_EQ(in.at<cv::Vec3b>(static_cast<int>(centre.y()), static_cast<int>(centre.x()) + 20), cv::Vec3b(0, 0, 0));
+  EXPECT_EQ(in.at<cv::Vec3b>(static_cast<int>(centre.y()), static_cast<int>(centre.x())),
+            cv::Vec3b(255, 255, 255));
+  EXPECT_EQ(in.at<cv::Vec3b>(static_cast<int>(centre.y()), static_cast<int>(centre.x()) + 20),
+            cv::Vec3b(0, 0, 0));
 }
 
 TEST(Letterbox, PortraitImagePadsLeftAndRight) {
@@ -117,7 +121,8 @@ TEST(DecodeYoloPose, WrongChannelCountIsRefusedWithTheNumbers) {
     EXPECT_NE(msg.find("4 + 3 classes + 2 keypoints x 3 = 13"), std::string::npos) << msg;
   }
   const int sizes2[2] = {14, 4};
-  EXPECT_THROW(decodeYoloPose(cv::Mat(2, sizes2, CV_32F, cv::Scalar(0)), twoClassInfo(), {}, {}), DetectorError);
+  EXPECT_THROW(decodeYoloPose(cv::Mat(2, sizes2, CV_32F, cv::Scalar(0)), twoClassInfo(), {}, {}),
+               DetectorError);
 }
 
 TEST(DecodeYoloPose, NanScoresAreDropped) {
@@ -158,11 +163,11 @@ TEST(Nms, SuppressesOverlapsOfTheSameClassOnly) {
     return d;
   };
   std::vector<Detection> in = {
-      det(0, 0.6f, 0, 0, 100, 100),    // overlaps the 0.9 one (IoU 0.81): suppressed
-      det(0, 0.9f, 5, 5, 105, 105),    // best
-      det(1, 0.8f, 0, 0, 100, 100),    // other class, same place: kept
+      det(0, 0.6f, 0, 0, 100, 100),      // overlaps the 0.9 one (IoU 0.81): suppressed
+      det(0, 0.9f, 5, 5, 105, 105),      // best
+      det(1, 0.8f, 0, 0, 100, 100),      // other class, same place: kept
       det(0, 0.5f, 200, 200, 250, 250),  // far away: kept
-      det(0, 0.7f, 60, 60, 160, 160),  // IoU with best ≈ 0.25: kept
+      det(0, 0.7f, 60, 60, 160, 160),    // IoU with best ≈ 0.25: kept
   };
   const auto out = nonMaximumSuppression(in, 0.5f, 10);
   ASSERT_EQ(out.size(), 4u);
@@ -175,14 +180,15 @@ TEST(Nms, SuppressesOverlapsOfTheSameClassOnly) {
 }
 
 TEST(ModelInfo, LoadsMetadataAndNamesMissingKeys) {
-  const std::string good = sgt::test::writeFile("m.yaml",
-                                                "input_width: 320\ninput_height: 256\nnames: [a, b, c]\nkeypoints: 9\n");
+  const std::string good = sgt::test::writeFile(
+      "m.yaml", "input_width: 320\ninput_height: 256\nnames: [a, b, c]\nkeypoints: 9\n");
   const ModelInfo info = loadModelInfo(good);
   EXPECT_EQ(info.input_height, 256);
   EXPECT_EQ(info.names.size(), 3u);
   EXPECT_EQ(info.channels(), 4 + 3 + 27);
   EXPECT_EQ(info.onnx_path.substr(info.onnx_path.size() - 7), "/m.onnx");
-  const std::string bad = sgt::test::writeFile("bad.yaml", "input_width: 320\ninput_height: 256\nkeypoints: 9\n");
+  const std::string bad =
+      sgt::test::writeFile("bad.yaml", "input_width: 320\ninput_height: 256\nkeypoints: 9\n");
   try {
     loadModelInfo(bad);
     FAIL();
@@ -190,15 +196,20 @@ TEST(ModelInfo, LoadsMetadataAndNamesMissingKeys) {
     EXPECT_NE(std::string(e.what()).find("missing 'names'"), std::string::npos) << e.what();
   }
   EXPECT_THROW(KeypointDetector{good}, DetectorError);  // m.onnx does not exist
-  const std::string thresholds = sgt::test::writeFile(
-      "t.yaml", "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: 9\nscore_thresholds: {b: 0.6}\n");
+  const std::string thresholds =
+      sgt::test::writeFile("t.yaml",
+                           "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: "
+                           "9\nscore_thresholds: {b: 0.6}\n");
   EXPECT_FLOAT_EQ(loadModelInfo(thresholds).score_thresholds.at("b"), 0.6f);
-  const std::string unknown = sgt::test::writeFile(
-      "u.yaml", "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: 9\nscore_thresholds: {c: 0.6}\n");
+  const std::string unknown =
+      sgt::test::writeFile("u.yaml",
+                           "input_width: 320\ninput_height: 256\nnames: [a, b]\nkeypoints: "
+                           "9\nscore_thresholds: {c: 0.6}\n");
   try {
     loadModelInfo(unknown);
     FAIL();
   } catch (const DetectorError& e) {
-    EXPECT_NE(std::string(e.what()).find("'c', not one of its classes"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'c', not one of its classes"), std::string::npos)
+        << e.what();
   }
 }

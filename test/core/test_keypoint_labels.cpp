@@ -12,7 +12,8 @@ namespace {
 
 Eigen::Isometry3d pose(double rx, double ry, double rz, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
+  T.linear() = (Eigen::AngleAxisd(rz, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(ry, Eigen::Vector3d::UnitY()) *
                 Eigen::AngleAxisd(rx, Eigen::Vector3d::UnitX()))
                    .toRotationMatrix();
   T.translation() = t;
@@ -31,7 +32,8 @@ TEST(KeypointLabels, DiscreteTwinsGetOneLabel) {
   klt.discrete.push_back(S);
   for (double yaw : {0.2, 1.4, 2.9, -2.0}) {
     const Eigen::Isometry3d T = pose(-2.2, 0.1, yaw, {0.0, 0.1, 1.2});
-    const Eigen::Isometry3d a = canonicalSymmetricPose(T, klt), b = canonicalSymmetricPose(T * S, klt);
+    const Eigen::Isometry3d a = canonicalSymmetricPose(T, klt),
+                            b = canonicalSymmetricPose(T * S, klt);
     EXPECT_TRUE(a.isApprox(b, 1e-9)) << "yaw " << yaw;
     EXPECT_TRUE(a.isApprox(T) || a.isApprox(T * S)) << "the label is one of the twins";
     // ... the one closer to the canonical camera-frame rotation.
@@ -58,7 +60,8 @@ TEST(KeypointLabels, ContinuousSymmetryLabelIsStableUnderTheAxisRotation) {
 }
 
 TEST(KeypointLabels, CuboidLabelsAreOneForEveryHalfTurnOfTheBox) {
-  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.03), Eigen::Vector3d(0.1, 0.05, 0.03));
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.03),
+                                Eigen::Vector3d(0.1, 0.05, 0.03));
   const PinholeModel cam;
   for (double yaw : {0.2, 1.4, 2.9, -2.0}) {
     const Eigen::Isometry3d T = pose(-2.2, 0.1, yaw, {0.0, 0.1, 1.2});
@@ -73,25 +76,29 @@ TEST(KeypointLabels, CuboidLabelsAreOneForEveryHalfTurnOfTheBox) {
     const auto a = projectCuboid(cam, T, box), b = projectCuboid(cam, label, box);
     for (int k = 0; k < kCuboidKeypoints; ++k) {
       double nearest = 1e9;
-      for (int m = 0; m < kCuboidKeypoints; ++m) nearest = std::min(nearest, (b.uv[k] - a.uv[m]).norm());
+      for (int m = 0; m < kCuboidKeypoints; ++m)
+        nearest = std::min(nearest, (b.uv[k] - a.uv[m]).norm());
       EXPECT_LT(nearest, 1e-6) << "keypoint " << k;
     }
   }
   // Without symmetries the object labels keep the pose; the cuboid labels turn it when a turn
   // is closer to the canonical rotation (here the box seen upside down).
-  const Eigen::Isometry3d upside_down = pose(0.0, 0.0, 0.0, {0.0, 0.0, 1.0});  // object z away from the camera
+  const Eigen::Isometry3d upside_down =
+      pose(0.0, 0.0, 0.0, {0.0, 0.0, 1.0});  // object z away from the camera
   EXPECT_TRUE(canonicalSymmetricPose(upside_down, Symmetry{}).isApprox(upside_down));
   EXPECT_FALSE(canonicalCuboidPose(upside_down, Symmetry{}).isApprox(upside_down));
 }
 
 TEST(KeypointLabels, ProjectionMarksWhatLandsInTheImage) {
   const PinholeModel cam;
-  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.02), Eigen::Vector3d(0.1, 0.05, 0.02));
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-0.1, -0.05, -0.02),
+                                Eigen::Vector3d(0.1, 0.05, 0.02));
   // Centred in front of the camera: all nine inside, the centre on the principal point.
   auto p = projectCuboid(cam, pose(0, 0, 0, {0, 0, 1.0}), box);
   for (int k = 0; k < kCuboidKeypoints; ++k) EXPECT_TRUE(p.inside[k]) << k;
   EXPECT_TRUE(p.uv[8].isApprox(Eigen::Vector2d(cam.cx, cam.cy)));
-  // Front top right (+x +y +z) at z = 1.02 m (the object frame is the camera frame turned by nothing).
+  // Front top right (+x +y +z) at z = 1.02 m (the object frame is the camera frame turned by
+  // nothing).
   EXPECT_NEAR(p.uv[0].x(), cam.cx + cam.fx * 0.1 / 1.02, 1e-9);
   EXPECT_NEAR(p.uv[0].y(), cam.cy + cam.fy * 0.05 / 1.02, 1e-9);
   // Half out of the image on the right: the +x corners are outside (and zero), the -x inside.

@@ -5,9 +5,9 @@
 
 #include <random>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
@@ -31,7 +31,8 @@ class LocalizerTest : public ::testing::Test {
   // The scan the robot measures at its true pose, with the sensor pose of the robot at `prior`.
   RangeMeasurements scanAt(const Eigen::Isometry3d& prior, std::uint32_t seed = 1) const {
     const SimulatedScan s = simulate(scene_, *rays_, T_map_base_ * T_base_lidar_);
-    RangeMeasurements m = fromRanges(SpinningLidarModel::vlp16(), rays_, s.range, prior * T_base_lidar_);
+    RangeMeasurements m =
+        fromRanges(SpinningLidarModel::vlp16(), rays_, s.range, prior * T_base_lidar_);
     addRangeNoise(m, 0.01, seed);
     return m;
   }
@@ -55,7 +56,9 @@ TEST_F(LocalizerTest, ConvergesFrom30cmAnd5DegStarts) {
     const double a = angle(rng);
     Eigen::Isometry3d prior = T_map_base_;
     prior.translation() += 0.30 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
-    prior.linear() = Eigen::AngleAxisd((trial % 2 ? 5.0 : -5.0) * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * prior.linear();
+    prior.linear() =
+        Eigen::AngleAxisd((trial % 2 ? 5.0 : -5.0) * M_PI / 180.0, Eigen::Vector3d::UnitZ()) *
+        prior.linear();
     const LocalizeResult r = localizer.localize(scene_, {scanAt(prior, trial + 1)}, prior);
     SCOPED_TRACE("trial " + std::to_string(trial));
     ASSERT_EQ(r.status, LocalizeStatus::kOk) << toString(r.status);
@@ -74,7 +77,8 @@ TEST_F(LocalizerTest, ConvergesFromADepthCameraAndAScanTogether) {
   const Eigen::Isometry3d T_base_camera = opticalLookAt({0.1, 0, 1.2}, {1.1, 0, 0.9});
   const SimulatedScan s = simulate(scene_, *cam_rays, T_map_base_ * T_base_camera);
   Eigen::Isometry3d prior = T_map_base_ * test::poseXyzYaw({0.2, -0.2, 0}, 4.0 * M_PI / 180.0);
-  RangeMeasurements depth = fromDepthImage(cam, cam_rays, depthImage(s, *cam_rays), prior * T_base_camera);
+  RangeMeasurements depth =
+      fromDepthImage(cam, cam_rays, depthImage(s, *cam_rays), prior * T_base_camera);
   addDepthNoise(depth, 0.0015, 3);
   const LocalizeResult r = Localizer().localize(scene_, {depth, scanAt(prior)}, prior);
   ASSERT_EQ(r.status, LocalizeStatus::kOk) << toString(r.status);
@@ -83,8 +87,8 @@ TEST_F(LocalizerTest, ConvergesFromADepthCameraAndAScanTogether) {
 }
 
 TEST_F(LocalizerTest, TrackedObjectsExplainTheirPointsButDoNotPull) {
-  // A large crate right beside the robot, tracked 4 cm off its true place (inside the final threshold): if its points pulled
-  // the robot, the robot would move with the crate's error.
+  // A large crate right beside the robot, tracked 4 cm off its true place (inside the final
+  // threshold): if its points pulled the robot, the robot would move with the crate's error.
   const MeshId crate = scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({1.0f, 1.0f, 1.2f})));
   const Eigen::Isometry3d T_true = T_map_base_ * test::poseXyzYaw({1.2, 0.0, 0.6});
   scene_.addInstance(20, crate, T_true);
@@ -100,7 +104,8 @@ TEST_F(LocalizerTest, TrackedObjectsExplainTheirPointsButDoNotPull) {
 }
 
 TEST_F(LocalizerTest, KeepsThePriorWhenTheScanDoesNotFitTheMap) {
-  const Eigen::Isometry3d far_away = test::poseXyzYaw({500.0, 500.0, 0.0});  // outside the building: no map hits
+  const Eigen::Isometry3d far_away =
+      test::poseXyzYaw({500.0, 500.0, 0.0});  // outside the building: no map hits
   const LocalizeResult r = Localizer().localize(scene_, {scanAt(far_away)}, far_away);
   EXPECT_EQ(r.status, LocalizeStatus::kTooFewInliers);
   EXPECT_TRUE(r.T_map_base.isApprox(far_away));
@@ -125,8 +130,8 @@ TEST(Localizer, FlagsAMapThatOnlyShowsAFloor) {
   const Eigen::Isometry3d T_true = test::poseXyzYaw({0, 0, 1.0});
   const SimulatedScan s = simulate(scene, *rays, T_true);
   const Eigen::Isometry3d prior = test::poseXyzYaw({0.2, 0.1, 1.0});
-  const LocalizeResult r =
-      Localizer().localize(scene, {fromRanges(SpinningLidarModel::vlp16(), rays, s.range, prior)}, prior);
+  const LocalizeResult r = Localizer().localize(
+      scene, {fromRanges(SpinningLidarModel::vlp16(), rays, s.range, prior)}, prior);
   EXPECT_EQ(r.status, LocalizeStatus::kDegenerate) << toString(r.status);
   EXPECT_TRUE(r.T_map_base.isApprox(prior));
 }

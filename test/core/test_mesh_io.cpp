@@ -14,8 +14,7 @@ namespace {
 using test::writeFile;
 
 // A right tetrahedron with unit legs: 4 vertices, 4 outward triangles.
-const char* kTetObj =
-    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+const char* kTetObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 std::string tetStl() {
   const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -24,14 +23,16 @@ std::string tetStl() {
   for (const auto& t : f) {
     s += "facet normal 0 0 0\nouter loop\n";
     for (int c : t)
-      s += "vertex " + std::to_string(v[c][0]) + " " + std::to_string(v[c][1]) + " " + std::to_string(v[c][2]) + "\n";
+      s += "vertex " + std::to_string(v[c][0]) + " " + std::to_string(v[c][1]) + " " +
+           std::to_string(v[c][2]) + "\n";
     s += "endloop\nendfacet\n";
   }
   return s + "endsolid tet\n";
 }
 
 const char* kTetPly =
-    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float "
+    "z\n"
     "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
@@ -56,7 +57,8 @@ std::string base64(const std::string& in) {
   std::string out;
   std::size_t i = 0;
   for (; i + 2 < in.size(); i += 3) {
-    const unsigned n = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
+    const unsigned n =
+        (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
     for (int s : {18, 12, 6, 0}) out += t[(n >> s) & 63];
   }
   if (i < in.size()) {
@@ -91,8 +93,10 @@ TEST_P(MeshFormats, LoadsTheTetrahedron) {
   const TriangleMesh mesh = loadMesh(writeFile(name, text));
   EXPECT_EQ(mesh.triangleCount(), 4u) << name;
   const auto box = mesh.boundingBox();
-  EXPECT_TRUE(box.min().isApprox(Eigen::Vector3f::Zero(), 1e-6f)) << name << " " << box.min().transpose();
-  EXPECT_TRUE(box.max().isApprox(Eigen::Vector3f::Ones(), 1e-6f)) << name << " " << box.max().transpose();
+  EXPECT_TRUE(box.min().isApprox(Eigen::Vector3f::Zero(), 1e-6f))
+      << name << " " << box.min().transpose();
+  EXPECT_TRUE(box.max().isApprox(Eigen::Vector3f::Ones(), 1e-6f))
+      << name << " " << box.max().transpose();
   EXPECT_NEAR(mesh.diameter(), std::sqrt(2.0), 1e-6) << name;
   EXPECT_NEAR(mesh.surfaceArea(), 1.5 + std::sqrt(3.0) / 2.0, 1e-5) << name;
 }
@@ -114,12 +118,14 @@ void expectError(const std::function<void()>& f, const std::vector<std::string>&
     f();
     ADD_FAILURE() << "no MeshError thrown";
   } catch (const MeshError& e) {
-    for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    for (const auto& p : parts)
+      EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
   }
 }
 
 TEST(MeshValidation, MissingFile) {
-  expectError([] { loadMesh("/nonexistent/part.stl"); }, {"/nonexistent/part.stl", "does not exist"});
+  expectError([] { loadMesh("/nonexistent/part.stl"); },
+              {"/nonexistent/part.stl", "does not exist"});
 }
 
 TEST(MeshValidation, EmptyFile) {
@@ -133,14 +139,16 @@ TEST(MeshValidation, NoTriangles) {
 }
 
 TEST(MeshValidation, NonFiniteVertex) {
-  const auto path = writeFile("nan.ply", std::string(kTetPly).replace(std::string(kTetPly).find("1 0 0\n"), 5, "nan 0 0"));
+  const auto path = writeFile(
+      "nan.ply", std::string(kTetPly).replace(std::string(kTetPly).find("1 0 0\n"), 5, "nan 0 0"));
   expectError([&] { loadMesh(path); }, {path, "not finite"});
 }
 
 TEST(MeshValidation, DegenerateFacesAreDroppedOrRejected) {
   // Two good triangles plus one with a repeated index and one collinear.
   const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float "
+      "z\n"
       "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n2 0 0\n1 1 0\n3 0 1 2\n3 1 4 2\n3 0 0 1\n3 0 1 3\n";
   const auto path = writeFile("degenerate.ply", ply);
@@ -157,13 +165,16 @@ TEST(MeshValidation, OutOfRangeFaceInMemory) {
   TriangleMesh mesh;
   mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   mesh.triangles = {{0, 1, 7}};
-  expectError([&] { validateMesh(mesh, "in-memory part"); }, {"in-memory part", "vertex 7", "3 vertices"});
+  expectError([&] { validateMesh(mesh, "in-memory part"); },
+              {"in-memory part", "vertex 7", "3 vertices"});
 }
 
 TEST(MeshValidation, OutOfRangeFaceInFile) {
   const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n";
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float "
+      "z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 "
+      "0 1 9\n";
   const auto path = writeFile("range.ply", ply);
   expectError([&] { loadMesh(path); }, {path});
 }
@@ -221,12 +232,16 @@ TEST(MeshIo, ResolvesPackageUris) {
 TEST(MeshPaperObjects, LoadWithTheirTriangleCounts) {
   SGT_REQUIRE_PBR_OBJECTS(dir);
   const std::vector<std::pair<std::string, std::size_t>> expected = {
-      {"multimeter/multimeter.stl", 33446}, {"screwdriver/screwdriver.stl", 8894},
-      {"materialbox/materialbox.stl", 4539}, {"klt/klt3147.stl", 4708}, {"relay/relay.stl", 3104}};
+      {"multimeter/multimeter.stl", 33446},
+      {"screwdriver/screwdriver.stl", 8894},
+      {"materialbox/materialbox.stl", 4539},
+      {"klt/klt3147.stl", 4708},
+      {"relay/relay.stl", 3104}};
   for (const auto& [file, count] : expected) {
     MeshLoadReport report;
     const TriangleMesh m = loadMesh(dir + "/meshes/" + file, {}, &report);
-    EXPECT_NEAR(static_cast<double>(m.triangleCount() + report.dropped_degenerate), count, 0) << file;
+    EXPECT_NEAR(static_cast<double>(m.triangleCount() + report.dropped_degenerate), count, 0)
+        << file;
     EXPECT_LT(m.boundingBox().sizes().maxCoeff(), 0.31f) << file;
   }
 }

@@ -12,7 +12,8 @@ const std::string kCatalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml
 
 TEST(ObjectCatalog, LoadsThePackageCatalog) {
   const ObjectCatalog catalog = loadObjectCatalog(kCatalog);
-  EXPECT_EQ(catalog.names(), (std::vector<std::string>{"klt", "materialbox", "multimeter", "relay", "screwdriver"}));
+  EXPECT_EQ(catalog.names(),
+            (std::vector<std::string>{"klt", "materialbox", "multimeter", "relay", "screwdriver"}));
   const ObjectClass& mm = catalog.get("multimeter");
   EXPECT_NEAR(mm.box.sizes().x(), 0.180, 0.002);
   EXPECT_NEAR(mm.box.sizes().y(), 0.087, 0.002);
@@ -37,11 +38,13 @@ TEST(ObjectCatalog, SampledSymmetries) {
   const auto samples = s.sampled(M_PI / 2);
   ASSERT_EQ(samples.size(), 4u);
   // Each sample maps the axis onto itself.
-  for (const auto& S : samples) EXPECT_TRUE((S * Eigen::Vector3d(0.1, 0, 0)).isApprox(Eigen::Vector3d(0.1, 0, 0)));
+  for (const auto& S : samples)
+    EXPECT_TRUE((S * Eigen::Vector3d(0.1, 0, 0)).isApprox(Eigen::Vector3d(0.1, 0, 0)));
 }
 
 TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
-  const std::string path = test::writeFile("bad_catalog.yaml", "objects:\n  relay:\n    scale: 1.0\n");
+  const std::string path =
+      test::writeFile("bad_catalog.yaml", "objects:\n  relay:\n    scale: 1.0\n");
   try {
     loadObjectCatalog(path);
     FAIL() << "no error";
@@ -51,14 +54,16 @@ TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
     EXPECT_NE(msg.find("mesh"), std::string::npos) << msg;
     EXPECT_NE(msg.find("line 3"), std::string::npos) << msg;
   }
-  const std::string missing = test::writeFile("missing_mesh.yaml", "objects:\n  relay:\n    mesh: nowhere.stl\n");
+  const std::string missing =
+      test::writeFile("missing_mesh.yaml", "objects:\n  relay:\n    mesh: nowhere.stl\n");
   try {
     loadObjectCatalog(missing);
     FAIL() << "no error";
   } catch (const CatalogError& e) {
     EXPECT_NE(std::string(e.what()).find("nowhere.stl"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(loadObjectCatalog(test::writeFile("no_objects.yaml", "classes: []\n")), CatalogError);
+  EXPECT_THROW(loadObjectCatalog(test::writeFile("no_objects.yaml", "classes: []\n")),
+               CatalogError);
   EXPECT_THROW(loadObjectCatalog(test::writeFile("broken.yaml", "objects: [\n")), CatalogError);
 }
 

@@ -2,7 +2,6 @@
 // noise (sigma 1.5 mm at 1 m, growing with z^2): one object, five objects occluding each other,
 // a false hypothesis, a symmetric object, no points / all-NaN depth.
 #include <gtest/gtest.h>
-
 #include <tbb/task_arena.h>
 
 #include <random>
@@ -17,7 +16,8 @@ namespace sgt {
 namespace {
 
 const ObjectCatalog& catalog() {
-  static const ObjectCatalog c = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  static const ObjectCatalog c =
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
   return c;
 }
 
@@ -29,7 +29,8 @@ Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
 }
 
 // A perturbation of exactly the given magnitudes in random directions.
-Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, double trans_m, double rot_deg, std::mt19937& rng) {
+Eigen::Isometry3d perturb(const Eigen::Isometry3d& T, double trans_m, double rot_deg,
+                          std::mt19937& rng) {
   std::normal_distribution<double> g;
   const Eigen::Vector3d dt = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * trans_m;
   const Eigen::Vector3d axis = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
@@ -75,7 +76,8 @@ struct Bench {
   }
   void perturbAll(double trans_m, double rot_deg, std::uint32_t seed) {
     std::mt19937 rng(seed);
-    for (const auto& [node, T] : truth) scene.setInstancePose(node, perturb(T, trans_m, rot_deg, rng));
+    for (const auto& [node, T] : truth)
+      scene.setInstancePose(node, perturb(T, trans_m, rot_deg, rng));
     scene.commit();
   }
 };
@@ -102,7 +104,8 @@ TEST(ObjectRefiner, OneObjectFromThreeCentimetresTenDegrees) {
     const ObjectEstimate& e = r.objects[0];
     EXPECT_EQ(e.quality.status, RefineStatus::kOk) << toString(e.quality.status);
     EXPECT_LT(translationError(e, b.truth[0].second), kMaxTransErr) << "seed " << seed;
-    EXPECT_LT(test::rotationErrorDeg(e.T_world_object.linear(), b.truth[0].second.linear()), kMaxRotErrDeg);
+    EXPECT_LT(test::rotationErrorDeg(e.T_world_object.linear(), b.truth[0].second.linear()),
+              kMaxRotErrDeg);
     EXPECT_GT(e.quality.inlier_ratio, 0.8);
     EXPECT_GT(e.quality.inliers, 500);
     EXPECT_LT(e.quality.rmse, 0.005);
@@ -129,7 +132,9 @@ TEST(ObjectRefiner, UmeyamaPointToPlaneConvergesGivenEnoughSteps) {
   o.steps = 30;
   const RefineResult r = ObjectRefiner(o).refine(b.scene, b.targets, {m});
   EXPECT_LT(translationError(r.objects[0], b.truth[0].second), kMaxTransErr);
-  EXPECT_LT(test::rotationErrorDeg(r.objects[0].T_world_object.linear(), b.truth[0].second.linear()), kMaxRotErrDeg);
+  EXPECT_LT(
+      test::rotationErrorDeg(r.objects[0].T_world_object.linear(), b.truth[0].second.linear()),
+      kMaxRotErrDeg);
 }
 
 TEST(ObjectRefiner, FiveObjectsOccludingEachOther) {
@@ -150,10 +155,12 @@ TEST(ObjectRefiner, FiveObjectsOccludingEachOther) {
     for (std::size_t k = 0; k < r.objects.size(); ++k) {
       const auto& e = r.objects[k];
       EXPECT_EQ(e.quality.status, RefineStatus::kOk) << e.node << " " << toString(e.quality.status);
-      EXPECT_LT(translationError(e, b.truth[k].second), kMaxTransErr) << "node " << e.node << " seed " << seed;
+      EXPECT_LT(translationError(e, b.truth[k].second), kMaxTransErr)
+          << "node " << e.node << " seed " << seed;
       double rot = 1e9;  // symmetry-aware: the KLT's 180 deg turn and the screwdriver's axis
       for (const auto& S : b.targets[k].symmetry->sampled(M_PI / 180.0))
-        rot = std::min(rot, test::rotationErrorDeg(e.T_world_object.linear(), (b.truth[k].second * S).linear()));
+        rot = std::min(rot, test::rotationErrorDeg(e.T_world_object.linear(),
+                                                   (b.truth[k].second * S).linear()));
       EXPECT_LT(rot, kMaxRotErrDeg) << "node " << e.node << " seed " << seed;
     }
   }
@@ -175,11 +182,13 @@ TEST(ObjectRefiner, ResultsDoNotDependOnTheThreads) {
     tbb::task_arena(threads).execute([&] { r = ObjectRefiner().refine(b.scene, b.targets, {m}); });
     return r;
   };
-  if (tbb::this_task_arena::max_concurrency() < 2) GTEST_SKIP() << "one hardware thread: nothing to compare";
+  if (tbb::this_task_arena::max_concurrency() < 2)
+    GTEST_SKIP() << "one hardware thread: nothing to compare";
   const RefineResult one = refineWith(1), all = refineWith(tbb::this_task_arena::max_concurrency());
   ASSERT_EQ(one.objects.size(), all.objects.size());
   for (std::size_t k = 0; k < one.objects.size(); ++k) {
-    EXPECT_TRUE(one.objects[k].T_world_object.matrix() == all.objects[k].T_world_object.matrix()) << "object " << k;
+    EXPECT_TRUE(one.objects[k].T_world_object.matrix() == all.objects[k].T_world_object.matrix())
+        << "object " << k;
     EXPECT_EQ(one.objects[k].quality.inliers, all.objects[k].quality.inliers);
   }
   EXPECT_EQ(one.assignment, all.assignment);
@@ -211,7 +220,8 @@ TEST(ObjectRefiner, SymmetricObjectIsNotSpunAboutItsAxis) {
   Eigen::Isometry3d init = truth;
   // Small offset: thin objects do not yet converge reliably from centimetres (issue 3 open).
   init.translation() += Eigen::Vector3d(0.004, -0.004, 0.004);
-  init.linear() = truth.linear() * Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+  init.linear() = truth.linear() *
+                  Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitX()).toRotationMatrix() *
                   Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   b.scene.setInstancePose(10, init);
   b.scene.commit();

@@ -26,7 +26,8 @@ TEST(OrientationSearch, CuboidRotationsAreTheTwentyFourDistinctRotations) {
 }
 
 TEST(OrientationSearch, CandidatesTurnAboutTheBoxCentre) {
-  const Eigen::AlignedBox3f box(Eigen::Vector3f(-0.1f, -0.05f, 0.0f), Eigen::Vector3f(0.1f, 0.05f, 0.08f));
+  const Eigen::AlignedBox3f box(Eigen::Vector3f(-0.1f, -0.05f, 0.0f),
+                                Eigen::Vector3f(0.1f, 0.05f, 0.08f));
   const Eigen::Isometry3d T = test::poseXyzYaw(Eigen::Vector3d(1, 2, 3), 0.4);
   for (const Eigen::Isometry3d& C : orientationCandidates(T, box, cuboidRotations()))
     EXPECT_TRUE((C * box.center().cast<double>()).isApprox(T * box.center().cast<double>(), 1e-12));
@@ -35,7 +36,8 @@ TEST(OrientationSearch, CandidatesTurnAboutTheBoxCentre) {
 class MixedUpAxes : public ::testing::TestWithParam<std::tuple<const char*, int>> {};
 
 TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
-  const ObjectCatalog catalog = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  const ObjectCatalog catalog =
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
   const auto [class_name, turn] = GetParam();
   const ObjectClass& c = catalog.get(class_name);
   RaycastScene scene;
@@ -43,13 +45,15 @@ TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
   table.transform(Eigen::Isometry3f(Eigen::Translation3f(0, 0, 0.73f)));
   scene.setStaticMap(std::make_shared<TriangleMesh>(table), 1);
   const NodeId node = 10;
-  const Eigen::Isometry3d truth = test::poseXyzYaw(Eigen::Vector3d(0.05, 0.0, 0.75 - c.box.min().z() + 0.001), 0.3);
+  const Eigen::Isometry3d truth =
+      test::poseXyzYaw(Eigen::Vector3d(0.05, 0.0, 0.75 - c.box.min().z() + 0.001), 0.3);
   scene.addInstance(node, scene.addMesh(c.mesh), truth);
   scene.commit();
   const PinholeModel camera = PinholeModel::xtion();
   const auto rays = std::make_shared<SensorRays>(makeRays(camera));
   const Eigen::Isometry3d T_world_camera = opticalLookAt({0.0, 0.8, 1.35}, {0.0, 0.0, 0.75});
-  RangeMeasurements m = fromDepthImage(camera, rays, depthImage(simulate(scene, *rays, T_world_camera), *rays), T_world_camera);
+  RangeMeasurements m = fromDepthImage(
+      camera, rays, depthImage(simulate(scene, *rays, T_world_camera), *rays), T_world_camera);
   addDepthNoise(m, 0.0015, 7);
 
   // The detection: the truth turned by one of the box's axis permutations, 1 cm off.
@@ -59,10 +63,12 @@ TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
   const RefinerOptions refiner = PipelineOptions::orientationRefinerDefaults();
   OrientationPrior prior;
   prior.world_up = Eigen::Vector3d::UnitZ();
-  const OrientationChoice choice = chooseOrientation(scene, {node, &c.symmetry}, orientationCandidates(detected, c.box, rotations),
-                                                     {m}, refiner, prior);
+  const OrientationChoice choice =
+      chooseOrientation(scene, {node, &c.symmetry},
+                        orientationCandidates(detected, c.box, rotations), {m}, refiner, prior);
   EXPECT_GT(choice.candidates_fitted, 0);
-  const PoseErrors e = poseErrors(c, sampleSurface(*c.mesh, 500, 1).points, choice.T_world_object, truth);
+  const PoseErrors e =
+      poseErrors(c, sampleSurface(*c.mesh, 500, 1).points, choice.T_world_object, truth);
   // Upright as it stands, whatever the turn (three short rounds: the tracker refines on).
   const double up = choice.T_world_object.linear().col(2).dot(truth.linear().col(2));
   EXPECT_GT(up, std::cos(10.0 * M_PI / 180.0)) << "candidate " << choice.candidate;
@@ -74,13 +80,15 @@ TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
     EXPECT_LT(e.rotation_deg, 10.0) << "candidate " << choice.candidate;
     EXPECT_LT(e.add_s, 0.005);
   }
-  EXPECT_TRUE(scene.instancePose(node).isApprox(choice.T_world_object)) << "the winner is left in the scene";
+  EXPECT_TRUE(scene.instancePose(node).isApprox(choice.T_world_object))
+      << "the winner is left in the scene";
 }
 
 // Identity (the detection is right), quarter turns about each axis, and a half turn about the
 // long axis (upside down).
 INSTANTIATE_TEST_SUITE_P(Turns, MixedUpAxes,
-                         ::testing::Combine(::testing::Values("relay", "klt", "materialbox"), ::testing::Values(0, 1, 5, 9, 14, 20)));
+                         ::testing::Combine(::testing::Values("relay", "klt", "materialbox"),
+                                            ::testing::Values(0, 1, 5, 9, 14, 20)));
 
 }  // namespace
 }  // namespace sgt

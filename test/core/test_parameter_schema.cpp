@@ -1,6 +1,6 @@
-// The parameter schema (pipeline/parameter_schema.hpp): the committed config/*.yaml, cfg/Tracker.cfg
-// and README tables are what it generates, the YAML files give exactly the option structs'
-// defaults (what keeps `evaluate` bit-identical), and every entry sets a field of its own.
+// The parameter schema (pipeline/parameter_schema.hpp): the committed config/*.yaml,
+// cfg/Tracker.cfg and README tables are what it generates, the YAML files give exactly the option
+// structs' defaults (what keeps `evaluate` bit-identical), and every entry sets a field of its own.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -24,25 +24,31 @@ std::string source(const std::string& relative) {
   return s.str();
 }
 
-const char* const kRegenerate = "differs from what the parameter schema generates: run `make params`";
+const char* const kRegenerate =
+    "differs from what the parameter schema generates: run `make params`";
 
 TEST(ParameterSchema, CommittedFilesAreGenerated) {
   EXPECT_EQ(source("config/tracker.yaml"), trackerYaml()) << "config/tracker.yaml " << kRegenerate;
-  EXPECT_EQ(source("config/detector.yaml"), detectorYaml()) << "config/detector.yaml " << kRegenerate;
+  EXPECT_EQ(source("config/detector.yaml"), detectorYaml())
+      << "config/detector.yaml " << kRegenerate;
   EXPECT_EQ(source("cfg/Tracker.cfg"), trackerReconfigure()) << "cfg/Tracker.cfg " << kRegenerate;
   const std::string readme = source("README.md");
-  EXPECT_EQ(generatedSection(readme, "tracker parameters"), trackerIndex()) << "README.md " << kRegenerate;
-  EXPECT_EQ(generatedSection(readme, "detector parameters"), detectorIndex()) << "README.md " << kRegenerate;
-  EXPECT_EQ(source("doc/parameters.md"), parameterReference()) << "doc/parameters.md " << kRegenerate;
+  EXPECT_EQ(generatedSection(readme, "tracker parameters"), trackerIndex())
+      << "README.md " << kRegenerate;
+  EXPECT_EQ(generatedSection(readme, "detector parameters"), detectorIndex())
+      << "README.md " << kRegenerate;
+  EXPECT_EQ(source("doc/parameters.md"), parameterReference())
+      << "doc/parameters.md " << kRegenerate;
 }
 
-static_assert(std::is_trivially_copyable_v<PipelineOptions>, "PipelineOptions compared byte by byte");
+static_assert(std::is_trivially_copyable_v<PipelineOptions>,
+              "PipelineOptions compared byte by byte");
 
 template <class O>
 void expectSameValues(const Schema<O>& schema, const O& a, const O& b, const std::string& what) {
   for (const Param<O>& p : schema)
-    EXPECT_TRUE(p.get(a) == p.get(b)) << what << ": " << p.name << " is " << format(p, p.get(a)) << ", default "
-                                      << format(p, p.get(b));
+    EXPECT_TRUE(p.get(a) == p.get(b)) << what << ": " << p.name << " is " << format(p, p.get(a))
+                                      << ", default " << format(p, p.get(b));
 }
 
 TEST(ParameterSchema, TrackerYamlGivesTheStructDefaults) {
@@ -54,7 +60,8 @@ TEST(ParameterSchema, TrackerYamlGivesTheStructDefaults) {
   expectSameValues(trackerSchema(), applied, defaults, "config/tracker.yaml");
   // No byte of the options changes: every field, also those the schema does not name, and the
   // floats exactly (the setters assign single fields, so padding stays as it was).
-  EXPECT_EQ(std::memcmp(before, &applied.pipeline, sizeof before), 0) << "config/tracker.yaml changes PipelineOptions";
+  EXPECT_EQ(std::memcmp(before, &applied.pipeline, sizeof before), 0)
+      << "config/tracker.yaml changes PipelineOptions";
   const TrackerNodeOptions& n = applied.node;
   const TrackerNodeOptions d;
   EXPECT_EQ(n.map_frame, d.map_frame);
@@ -96,7 +103,8 @@ void expectWellFormed(const Schema<O>& schema) {
   for (const Param<O>& p : schema) {
     SCOPED_TRACE(p.name);
     EXPECT_TRUE(names.insert(p.name).second) << "declared twice";
-    EXPECT_TRUE(std::regex_match(p.name, std::regex("[a-z][a-z0-9_]*(/[a-z][a-z0-9_]*)?"))) << "name";
+    EXPECT_TRUE(std::regex_match(p.name, std::regex("[a-z][a-z0-9_]*(/[a-z][a-z0-9_]*)?")))
+        << "name";
     EXPECT_TRUE(group_names.count(p.group)) << "group " << p.group;
     EXPECT_FALSE(p.doc.empty());
     EXPECT_EQ(p.doc.find_first_of("'\"|\n"), std::string::npos) << "doc: no quotes, | or newlines";
@@ -134,8 +142,8 @@ TEST(ParameterSchema, EntriesAreWellFormed) {
   std::set<std::string> used;
   for (const auto& p : trackerSchema()) used.insert(p.group);
   for (const auto& p : detectorSchema()) used.insert(p.group);
-  for (const char* g : {"association", "confirmation", "removal", "refinement", "localization", "pre-segmentation",
-                        "relations", "detection", "node", "filter"})
+  for (const char* g : {"association", "confirmation", "removal", "refinement", "localization",
+                        "pre-segmentation", "relations", "detection", "node", "filter"})
     EXPECT_TRUE(used.count(g)) << g;
   EXPECT_EQ(used.size(), groups().size());
 }
@@ -144,7 +152,8 @@ TEST(ParameterSchema, EntriesAreWellFormed) {
 template <class O>
 Value otherValue(const Param<O>& p, const Value& v) {
   switch (p.type) {
-    case Type::kBool: return !std::get<bool>(v);
+    case Type::kBool:
+      return !std::get<bool>(v);
     case Type::kInt: {
       const int i = std::get<int>(v);
       return i + 1 <= p.max ? i + 1 : i - 1;
@@ -153,7 +162,8 @@ Value otherValue(const Param<O>& p, const Value& v) {
       const double d = std::get<double>(v);
       return d < p.max ? (d + p.max) / 2 : (d + p.min) / 2;
     }
-    case Type::kString: return std::get<std::string>(v) + "x";
+    case Type::kString:
+      return std::get<std::string>(v) + "x";
   }
   return v;
 }
@@ -170,7 +180,8 @@ void expectOwnFields(const Schema<O>& schema) {
     set(schema, o, p.name, other);
     const Value back = p.get(o);
     if (p.single) {
-      EXPECT_EQ(static_cast<float>(std::get<double>(back)), static_cast<float>(std::get<double>(other)));
+      EXPECT_EQ(static_cast<float>(std::get<double>(back)),
+                static_cast<float>(std::get<double>(other)));
     } else {
       EXPECT_TRUE(back == other);
     }
@@ -199,9 +210,12 @@ std::string errorOf(const std::function<void()>& f) {
 
 TEST(ParameterSchema, SetChecksNameTypeAndRange) {
   TrackerParameters t;
-  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/rounds", 50); }), "refine/rounds: 50 is outside [1, 30]");
-  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/rounds", 4.0); }), "refine/rounds: 4.0 is not an int");
-  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/roundz", 4); }), "refine/roundz: no such parameter");
+  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/rounds", 50); }),
+            "refine/rounds: 50 is outside [1, 30]");
+  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/rounds", 4.0); }),
+            "refine/rounds: 4.0 is not an int");
+  EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "refine/roundz", 4); }),
+            "refine/roundz: no such parameter");
   EXPECT_EQ(errorOf([&] { set(trackerSchema(), t, "association_distance", 3.5); }),
             "association_distance: 3.5 is outside [0.01, 2.0]");
   set(trackerSchema(), t, "association_distance", 1);  // an int is a double too
@@ -213,7 +227,8 @@ TEST(ParameterSchema, SetChecksNameTypeAndRange) {
 TEST(ParameterSchema, YamlNestsAndRejectsUnknownKeys) {
   TrackerParameters t;
   applyYaml(trackerSchema(), t,
-            "refine: {rounds: 4, max_dist_last: 0.02}\nrelations:\n  relaxed: true\nremove_after: 2\nlocalize: false\n",
+            "refine: {rounds: 4, max_dist_last: 0.02}\nrelations:\n  relaxed: true\nremove_after: "
+            "2\nlocalize: false\n",
             "test");
   EXPECT_EQ(t.pipeline.refiner.rounds, 4);
   EXPECT_EQ(t.pipeline.refiner.max_dist_last, 0.02f);
@@ -222,12 +237,14 @@ TEST(ParameterSchema, YamlNestsAndRejectsUnknownKeys) {
   EXPECT_FALSE(t.pipeline.localize);
   EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "refine: {roundz: 4}", "f.yaml"); }),
             "f.yaml: refine/roundz: no such parameter");
-  EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "refine: 4", "f.yaml"); }), "f.yaml: refine: no such parameter");
+  EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "refine: 4", "f.yaml"); }),
+            "f.yaml: refine: no such parameter");
   EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "localize: maybe", "f.yaml"); }),
             "f.yaml: localize: 'maybe' is not a bool");
   EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "refine: {rounds: 0}", "f.yaml"); }),
             "f.yaml: refine/rounds: 0 is outside [1, 30]");
-  EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "[1, 2]", "f.yaml"); }), "f.yaml: not a map of parameters");
+  EXPECT_EQ(errorOf([&] { applyYaml(trackerSchema(), t, "[1, 2]", "f.yaml"); }),
+            "f.yaml: not a map of parameters");
   EXPECT_EQ(errorOf([&] { applyYamlFile(trackerSchema(), t, "/nonexistent.yaml"); }),
             "/nonexistent.yaml: cannot read the parameter file");
   DetectorParameters d;
@@ -248,7 +265,8 @@ TEST(ParameterSchema, NumbersReadBackExactly) {
 TEST(ParameterSchema, GeneratedSections) {
   const std::string text = "a\n<!-- BEGIN GENERATED: x -->\nold\n<!-- END GENERATED: x -->\nb\n";
   EXPECT_EQ(generatedSection(text, "x"), "old\n");
-  EXPECT_EQ(replaceGeneratedSection(text, "x", "new\n"), "a\n<!-- BEGIN GENERATED: x -->\nnew\n<!-- END GENERATED: x -->\nb\n");
+  EXPECT_EQ(replaceGeneratedSection(text, "x", "new\n"),
+            "a\n<!-- BEGIN GENERATED: x -->\nnew\n<!-- END GENERATED: x -->\nb\n");
   EXPECT_THROW(generatedSection(text, "y"), std::runtime_error);
 }
 

@@ -19,7 +19,8 @@ Eigen::Isometry3d truthAt(double t) {  // 0.2 m/s along x, 0.5 rad/s about z
 
 PoseFilter::Mat6 covariance(double sigma_t, double sigma_r) {
   PoseFilter::Mat6 C = PoseFilter::Mat6::Zero();
-  C.diagonal() << Eigen::Vector3d::Constant(sigma_t * sigma_t), Eigen::Vector3d::Constant(sigma_r * sigma_r);
+  C.diagonal() << Eigen::Vector3d::Constant(sigma_t * sigma_t),
+      Eigen::Vector3d::Constant(sigma_r * sigma_r);
   return C;
 }
 

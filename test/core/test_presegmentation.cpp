@@ -5,9 +5,9 @@
 
 #include <cstdio>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 #include "support.hpp"
@@ -29,7 +29,8 @@ class PresegmentationTest : public ::testing::Test {
     base_ = building_->robot_start.cast<double>();
     // Distractors around the robot: three boxes and a person-sized cylinder.
     const auto add = [&](NodeId node, const TriangleMesh& mesh, const Eigen::Vector3d& p) {
-      scene_.addInstance(node, scene_.addMesh(std::make_shared<TriangleMesh>(mesh)), test::poseXyzYaw(base_ + p));
+      scene_.addInstance(node, scene_.addMesh(std::make_shared<TriangleMesh>(mesh)),
+                         test::poseXyzYaw(base_ + p));
       distractors_.push_back(node);
     };
     add(40, makeBox({0.5f, 0.4f, 0.6f}), {1.8, 0.9, 0.3});
@@ -37,18 +38,21 @@ class PresegmentationTest : public ::testing::Test {
     add(42, makeBox({0.8f, 0.4f, 1.0f}), {0.3, -2.4, 0.5});
     add(43, makeCylinder(0.25f, 1.75f, 48), {2.2, -1.2, 0.875});
     // A known object the tracker has in its scene.
-    scene_.addInstance(kTracked, scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.4f, 0.3f, 0.5f}))),
+    scene_.addInstance(kTracked,
+                       scene_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.4f, 0.3f, 0.5f}))),
                        test::poseXyzYaw(base_ + Eigen::Vector3d(-1.5, -1.0, 0.25)));
     scene_.commit();
   }
 
   // Simulates `rays` from `T` with everything present, then hides the distractors from the
   // tracker's scene and pre-segments; scores the unknown label against the simulated owners.
-  Scores run(const SensorModel& model, std::shared_ptr<SensorRays> rays, const Eigen::Isometry3d& T) {
+  Scores run(const SensorModel& model, std::shared_ptr<SensorRays> rays,
+             const Eigen::Isometry3d& T) {
     const SimulatedScan s = simulate(scene_, *rays, T);
-    RangeMeasurements m = std::holds_alternative<PinholeModel>(model)
-                              ? fromDepthImage(std::get<PinholeModel>(model), rays, depthImage(s, *rays), T)
-                              : fromRanges(model, rays, s.range, T);
+    RangeMeasurements m =
+        std::holds_alternative<PinholeModel>(model)
+            ? fromDepthImage(std::get<PinholeModel>(model), rays, depthImage(s, *rays), T)
+            : fromRanges(model, rays, s.range, T);
     if (std::holds_alternative<PinholeModel>(model))
       addDepthNoise(m, 0.0015, 5);
     else
@@ -65,7 +69,8 @@ class PresegmentationTest : public ::testing::Test {
         EXPECT_EQ(result_.label[i], PointLabel::kInvalid);
         continue;
       }
-      const bool truth = std::find(distractors_.begin(), distractors_.end(), s.node[i]) != distractors_.end();
+      const bool truth =
+          std::find(distractors_.begin(), distractors_.end(), s.node[i]) != distractors_.end();
       const bool said = result_.label[i] == PointLabel::kUnknown;
       tp += truth && said, fp += !truth && said, fn += truth && !said;
       if (s.node[i] == kTracked) {
@@ -73,14 +78,15 @@ class PresegmentationTest : public ::testing::Test {
         object_ok += result_.label[i] == PointLabel::kObject && result_.node[i] == kTracked;
       }
     }
-    std::printf("unknown: precision %.4f recall %.4f over %zu true unknown points; reduction %.3f\n",
-                tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0, tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0,
-                tp + fn, result_.counts.reduction());
+    std::printf(
+        "unknown: precision %.4f recall %.4f over %zu true unknown points; reduction %.3f\n",
+        tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0,
+        tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0, tp + fn, result_.counts.reduction());
     if (object_truth > 0) EXPECT_GE(static_cast<double>(object_ok) / object_truth, 0.98);
     EXPECT_EQ(result_.counts.unknown, result_.unknown_points.size());
     EXPECT_EQ(result_.counts.valid() + result_.counts.invalid, m.size());
-    return {tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0, tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0,
-            tp + fn};
+    return {tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0,
+            tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0, tp + fn};
   }
 
   const Building* building_ = &test::coarseBuilding();
@@ -92,7 +98,8 @@ class PresegmentationTest : public ::testing::Test {
 
 TEST_F(PresegmentationTest, LidarFindsTheUnknownThings) {
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-  const Scores s = run(SpinningLidarModel::vlp16(), rays, test::poseXyzYaw(base_ + Eigen::Vector3d(0, 0, 0.9)));
+  const Scores s =
+      run(SpinningLidarModel::vlp16(), rays, test::poseXyzYaw(base_ + Eigen::Vector3d(0, 0, 0.9)));
   ASSERT_GT(s.truth, 300u);  // the distractors are in view
   // The goals: precision >= 0.95, recall >= 0.98.
   EXPECT_GE(s.precision, 0.95);
@@ -123,7 +130,8 @@ TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
   scene_.commit();
   RayHits predicted;
   scene_.cast(*rays, T, predicted);
-  const Presegmentation p = presegment(scene_, fromRanges(SpinningLidarModel::vlp16(), rays, s.range, T));
+  const Presegmentation p =
+      presegment(scene_, fromRanges(SpinningLidarModel::vlp16(), rays, s.range, T));
   std::size_t through_panel = 0, behind = 0;
   for (std::size_t i = 0; i < s.range.size(); ++i) {
     if (predicted.node[i] != 50 || !std::isfinite(s.range[i])) continue;
@@ -140,16 +148,18 @@ TEST(Presegmentation, InvalidAndEmptyInput) {
   scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), kMap);
   scene.commit();
   auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
-  RangeMeasurements m = fromRanges(SpinningLidarModel::vlp16(), rays,
-                                   std::vector<float>(rays->size(), std::numeric_limits<float>::quiet_NaN()),
-                                   test::poseXyzYaw({0, 0, 1}));
+  RangeMeasurements m =
+      fromRanges(SpinningLidarModel::vlp16(), rays,
+                 std::vector<float>(rays->size(), std::numeric_limits<float>::quiet_NaN()),
+                 test::poseXyzYaw({0, 0, 1}));
   const Presegmentation p = presegment(scene, m);
   EXPECT_EQ(p.counts.invalid, rays->size());
   EXPECT_EQ(p.counts.valid(), 0u);
   EXPECT_TRUE(p.unknown_points.empty());
   EXPECT_EQ(p.counts.reduction(), 0.0);
   auto empty_rays = std::make_shared<SensorRays>();
-  const Presegmentation e = presegment(scene, fromRanges(SpinningLidarModel::vlp16(), empty_rays, {}, test::poseXyzYaw({0, 0, 1})));
+  const Presegmentation e = presegment(
+      scene, fromRanges(SpinningLidarModel::vlp16(), empty_rays, {}, test::poseXyzYaw({0, 0, 1})));
   EXPECT_TRUE(e.label.empty());
 }
 

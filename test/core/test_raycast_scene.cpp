@@ -8,7 +8,8 @@
 namespace sgt {
 namespace {
 
-Eigen::Isometry3d at(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+Eigen::Isometry3d at(const Eigen::Vector3d& t,
+                     const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
   T.translation() = t;
@@ -16,7 +17,8 @@ Eigen::Isometry3d at(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen:
 }
 
 // One ray from the origin along `dir` (world frame).
-RayHits castOne(const RaycastScene& scene, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) {
+RayHits castOne(const RaycastScene& scene, const Eigen::Vector3f& origin,
+                const Eigen::Vector3f& dir) {
   const SensorRays rays = makeRays({dir});
   RayHits hits;
   scene.cast(rays, at(origin.cast<double>()), hits);
@@ -61,11 +63,13 @@ TEST(RaycastScene, RotatedInstanceGivesWorldNormals) {
   // Embree's Ng is in object space: the scene must rotate it into the world.
   RaycastScene scene;
   const MeshId box = scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.2f, 0.2f, 0.2f})));
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   scene.addInstance(1, box, at({2, 0, 0}, R));
   scene.commit();
   // Look at the box's -x face straight along its (rotated) world normal.
-  const Eigen::Vector3f n_face = (R * Eigen::Vector3d(-1, 0, 0)).cast<float>();  // world normal of the -x face
+  const Eigen::Vector3f n_face =
+      (R * Eigen::Vector3d(-1, 0, 0)).cast<float>();  // world normal of the -x face
   const Eigen::Vector3f origin = Eigen::Vector3f(2, 0, 0) + 1.0f * n_face;
   const RayHits h = castOne(scene, origin, -n_face);
   ASSERT_EQ(h.node[0], 1);
@@ -146,7 +150,8 @@ TEST(RaycastScene, TilesCoverExactlyTheRequestedRegion) {
   // {10..13}x{10} lies in tiles x 2..3, y 2: two tiles; {60..64}x{40..48}: tiles x 15, y 10..11.
   EXPECT_EQ(tiles.tiles().size(), 4u);
   RayHits hits;
-  const Eigen::Isometry3d T = at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  const Eigen::Isometry3d T =
+      at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix());
   scene.cast(rays, T, hits, &tiles);
   std::size_t visited = 0;
   tiles.forEachRay(rays, [&](std::size_t i) {
@@ -169,10 +174,13 @@ TEST(RaycastScene, StridedTilesCastEveryOtherRay) {
   EXPECT_EQ(tiles.stride(), 2);
   EXPECT_EQ(tiles.rayCount(), 32u);
   RayHits hits;
-  scene.cast(rays, at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix()), hits, &tiles);
+  scene.cast(rays,
+             at({0, 0, 2}, Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix()),
+             hits, &tiles);
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 16; ++x)
-      EXPECT_EQ(hits.node[rays.index(x, y)], (x % 2 == 0 && y % 2 == 0) ? 1 : kNoNode) << x << "," << y;
+      EXPECT_EQ(hits.node[rays.index(x, y)], (x % 2 == 0 && y % 2 == 0) ? 1 : kNoNode)
+          << x << "," << y;
 }
 
 TEST(RaycastScene, RangeLimitStopsRaysAndSkipsInvalidOnes) {
@@ -189,8 +197,9 @@ TEST(RaycastScene, RangeLimitStopsRaysAndSkipsInvalidOnes) {
   EXPECT_NEAR(hits.range[1], 1.9f, 1e-5f);
   EXPECT_EQ(hits.node[2], kNoNode);  // no measurement: not cast
   const std::vector<float> wrong_size = {1.0f};
-  EXPECT_THROW(scene.cast(rays, Eigen::Isometry3d::Identity(), hits, nullptr, CastLimit{&wrong_size, 0.0f}),
-               std::invalid_argument);
+  EXPECT_THROW(
+      scene.cast(rays, Eigen::Isometry3d::Identity(), hits, nullptr, CastLimit{&wrong_size, 0.0f}),
+      std::invalid_argument);
 }
 
 TEST(RaycastScene, WorldRaysHitLikeSensorRays) {
@@ -199,7 +208,8 @@ TEST(RaycastScene, WorldRaysHitLikeSensorRays) {
   scene.addInstance(7, box, at({2, 0, 0}));
   scene.commit();
   std::vector<WorldRay> rays;
-  for (int i = 0; i < 20; ++i) rays.push_back({{2.0f, 0.01f * i, 1.0f}, {0, 0, -1}, i < 10 ? 2.0f : 0.6f});
+  for (int i = 0; i < 20; ++i)
+    rays.push_back({{2.0f, 0.01f * i, 1.0f}, {0, 0, -1}, i < 10 ? 2.0f : 0.6f});
   RayHits hits;
   scene.cast(rays, hits);
   ASSERT_EQ(hits.size(), 20u);
@@ -222,9 +232,11 @@ TEST(RaycastScene, ClosestPointOnAMeshWithinARadius) {
   EXPECT_TRUE(sp.point.isApprox(Eigen::Vector3f(0.1f, 0.05f, 0.1f), 1e-5f));
   EXPECT_NEAR(sp.distance, 0.05f, 1e-5f);
   EXPECT_NEAR(std::abs(sp.normal.x()), 1.0f, 1e-5f);
-  ASSERT_TRUE(scene.closestPoint(box, {0.0f, 0.0f, 0.28f}, 0.1f, sp));  // inside, 2 cm below the top
+  ASSERT_TRUE(
+      scene.closestPoint(box, {0.0f, 0.0f, 0.28f}, 0.1f, sp));  // inside, 2 cm below the top
   EXPECT_NEAR(sp.point.z(), 0.3f, 1e-5f);
-  EXPECT_FALSE(scene.closestPoint(box, {0.5f, 0.0f, 0.0f}, 0.1f, sp));  // 40 cm away: beyond the radius
+  EXPECT_FALSE(
+      scene.closestPoint(box, {0.5f, 0.0f, 0.0f}, 0.1f, sp));  // 40 cm away: beyond the radius
 }
 
 }  // namespace

@@ -37,14 +37,15 @@ TEST(RelationHysteresis, AppearsAfterNFramesAndGoesAfterM) {
   EXPECT_TRUE(hasEdge(h.update({}), e));  // one miss: still there
   EXPECT_TRUE(hasEdge(h.update({e}), e));
   EXPECT_TRUE(hasEdge(h.update({}), e));
-  EXPECT_TRUE(h.update({}).empty());      // two misses in a row: gone
-  EXPECT_TRUE(h.update({e}).empty());     // and must hold three frames again
+  EXPECT_TRUE(h.update({}).empty());   // two misses in a row: gone
+  EXPECT_TRUE(h.update({e}).empty());  // and must hold three frames again
   h.forget("klt_1");
   EXPECT_TRUE(h.update({e}).empty());
 }
 
 TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
-  auto catalog = std::make_shared<ObjectCatalog>(loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  auto catalog = std::make_shared<ObjectCatalog>(
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
   const ObjectClass& klt = catalog->get("klt");
   const ObjectClass& relay = catalog->get("relay");
   // The map: a table whose top is at z = 0.75 (a 1.6 x 0.8 x 0.04 slab) over a floor.
@@ -56,7 +57,9 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   table.box.T_world_box.translation() = Eigen::Vector3d(0, 0, 0.73);
   table.box.half_extents = Eigen::Vector3d(0.8, 0.4, 0.02);
 
-  auto restingZ = [](const ObjectClass& c, double surface) { return surface + 0.001 + 0.5 * c.box.sizes().z() - c.box.center().z(); };
+  auto restingZ = [](const ObjectClass& c, double surface) {
+    return surface + 0.001 + 0.5 * c.box.sizes().z() - c.box.center().z();
+  };
   const double klt_floor = 0.75 + 0.001 + 0.012;  // the KLT's floor is about a centimetre thick
   Eigen::Isometry3d T_klt = test::poseXyzYaw({0.0, 0.0, restingZ(klt, 0.75)}, 0.2);
   const Eigen::Isometry3d T_klt_relay =
@@ -71,7 +74,8 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   PinholeModel cam;
   cam.width = 160, cam.height = 120, cam.fx = cam.fy = 130.0, cam.cx = 79.5, cam.cy = 59.5;
   auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const Eigen::Isometry3d T_cam = opticalLookAt(Eigen::Vector3d(0.0, 0.7, 1.45), Eigen::Vector3d(0.1, 0.0, 0.75));
+  const Eigen::Isometry3d T_cam =
+      opticalLookAt(Eigen::Vector3d(0.0, 0.7, 1.45), Eigen::Vector3d(0.1, 0.0, 0.75));
 
   PipelineOptions options;
   options.localize = false;
@@ -112,7 +116,8 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   EXPECT_EQ(find(r, "klt_1")->parent, "");
   EXPECT_EQ(pipeline.graph().node(tracked_relay.node).parent, find(r, "klt_1")->node);
   ASSERT_TRUE(before.has_value());
-  EXPECT_LT((tracked_relay.T_map_object.translation() - (T_klt * T_klt_relay).translation()).norm(), 0.005);
+  EXPECT_LT((tracked_relay.T_map_object.translation() - (T_klt * T_klt_relay).translation()).norm(),
+            0.005);
 
   // Carry the KLT 2 cm per frame along x (lifted 1 cm); only the KLT is detected. Without the
   // parent's motion in its prediction the relay falls behind (14 cm, refinement lost).
@@ -126,7 +131,8 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   const TrackedObject* carried = find(r, "relay_1");
   ASSERT_NE(carried, nullptr);
   EXPECT_EQ(carried->parent, "klt_1");
-  EXPECT_LT((carried->T_map_object.translation() - (T_klt * T_klt_relay).translation()).norm(), 0.01);
+  EXPECT_LT((carried->T_map_object.translation() - (T_klt * T_klt_relay).translation()).norm(),
+            0.01);
   EXPECT_LT((find(r, "klt_1")->T_map_object.translation() - T_klt.translation()).norm(), 0.01);
 
   // The relay's fits now fail (gone from the rays: a child gathers no evidence of absence and
@@ -135,7 +141,8 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   world.setInstanceEnabled(11, false);
   world.commit();
   const Eigen::Isometry3d held = carried->T_map_object;
-  const Eigen::Isometry3d T_false = test::poseXyzYaw({T_klt.translation().x() - 0.35, -0.2, restingZ(relay, 0.75)}, 0.0);
+  const Eigen::Isometry3d T_false =
+      test::poseXyzYaw({T_klt.translation().x() - 0.35, -0.2, restingZ(relay, 0.75)}, 0.0);
   for (int k = 0; k < 2; ++k, ++f) r = frame(f, false);  // its fits fail: lost
   ASSERT_NE(find(r, "relay_1"), nullptr);
   EXPECT_NE(find(r, "relay_1")->quality.status, RefineStatus::kOk);
@@ -143,8 +150,10 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
   const TrackedObject* still = find(r, "relay_1");
   ASSERT_NE(still, nullptr);
   EXPECT_EQ(still->parent, "klt_1");
-  EXPECT_LT((still->T_map_object.translation() - held.translation()).norm(), 0.01) << "pulled out by a false detection";
-  EXPECT_TRUE(std::any_of(r.objects.begin(), r.objects.end(), [](const TrackedObject& o) { return o.id == "relay_2"; }));
+  EXPECT_LT((still->T_map_object.translation() - held.translation()).norm(), 0.01)
+      << "pulled out by a false detection";
+  EXPECT_TRUE(std::any_of(r.objects.begin(), r.objects.end(),
+                          [](const TrackedObject& o) { return o.id == "relay_2"; }));
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ const char* const kScrewdriver = "screwdriver";
 constexpr std::size_t kScrewdriverIndex = 1;  // in test::BenchScene::classes; its axis is x
 
 struct Figures {
-  double error_m = 1.0;         // the screwdriver track's mean translation error over the last 0.5 s
+  double error_m = 1.0;  // the screwdriver track's mean translation error over the last 0.5 s
   int worst_inliers = 1 << 30;  // the fewest inliers of its fits over that time
   int tracks = 0;               // screwdriver tracks at the end
   std::string id;               // the last one's id
@@ -50,8 +50,8 @@ PipelineOptions contestOptions(bool contest_restarts) {
 
 // 30 frames of `first`, 45 of `then` (30 Hz), depth noise `sigma` (at 1 m); the screwdriver
 // track scored against `truth` over the last 15.
-Figures run(const test::BenchScene& bench, const Phase& first, const Phase& then, const Eigen::Isometry3d& truth,
-            double sigma, const PipelineOptions& options) {
+Figures run(const test::BenchScene& bench, const Phase& first, const Phase& then,
+            const Eigen::Isometry3d& truth, double sigma, const PipelineOptions& options) {
   FramePipeline pipeline(bench.catalog, bench.map, options);
   Figures f;
   double sum = 0.0;
@@ -61,7 +61,8 @@ Figures run(const test::BenchScene& bench, const Phase& first, const Phase& then
     PipelineFrame frame;
     frame.stamp = k / 30.0;
     frame.T_odom_base = p.T_map_base;
-    frame.measurements.push_back(fromDepthImage(p.cam, p.rays, depthImage(p.scan, *p.rays), p.T_camera));
+    frame.measurements.push_back(
+        fromDepthImage(p.cam, p.rays, depthImage(p.scan, *p.rays), p.T_camera));
     addDepthNoise(frame.measurements.back(), sigma, 2100 + k);
     frame.hypotheses.push_back({kScrewdriver, p.T_map_base.inverse() * p.detected, 0.9});
     const PipelineResult r = pipeline.process(frame);
@@ -86,20 +87,23 @@ Figures farLostScrewdriver(bool contest_restarts) {
   const Eigen::Isometry3d& truth = bench->truth[kScrewdriverIndex];
   Eigen::Isometry3d off = truth;
   off.translation() += 0.05 * truth.linear().col(0);
-  return run(*bench, phase(*bench, PinholeModel::xtion(), 1.1, truth), phase(*bench, test::qvgaCam(), 2.8, off), truth,
-             0.0005, contestOptions(contest_restarts));
+  return run(*bench, phase(*bench, PinholeModel::xtion(), 1.1, truth),
+             phase(*bench, test::qvgaCam(), 2.8, off), truth, 0.0005,
+             contestOptions(contest_restarts));
 }
 
 TEST(RestartContest, ADetectionOffAlongTheAxisDoesNotDragAFarLostTrack) {
   const Figures with = farLostScrewdriver(true);
-  std::cout << "[ figures  ] far lost screwdriver, detections 5 cm off: error " << with.error_m * 1000 << " mm";
+  std::cout << "[ figures  ] far lost screwdriver, detections 5 cm off: error "
+            << with.error_m * 1000 << " mm";
   EXPECT_EQ(with.tracks, 1);
   EXPECT_LT(with.error_m, 0.015) << "m, mean, last 0.5 s";
   EXPECT_LT(with.worst_inliers, PipelineOptions().refiner.alignment.min_points)
       << "its fits must be weak (else no test)";
   const Figures without = farLostScrewdriver(false);
   std::cout << "; without the contest " << without.error_m * 1000 << " mm\n";
-  EXPECT_GT(without.error_m, 0.035) << "m: without the contest every detection restarts it (else no test)";
+  EXPECT_GT(without.error_m, 0.035)
+      << "m: without the contest every detection restarts it (else no test)";
 }
 
 // From 1.1 m the screwdriver is tracked for 1 s; then it lies 10 cm farther along the bench
@@ -108,7 +112,8 @@ Figures movedScrewdriver(bool contest_restarts) {
   const auto bench = test::benchScene();
   const Eigen::Isometry3d before = bench->truth[kScrewdriverIndex];
   Eigen::Isometry3d after = before;
-  after.translation() += Eigen::Vector3d(0.0, -0.10, 0.0);  // away from the robot, behind where it was
+  after.translation() +=
+      Eigen::Vector3d(0.0, -0.10, 0.0);  // away from the robot, behind where it was
   const Phase first = phase(*bench, PinholeModel::xtion(), 1.1, before);
   bench->world->setInstancePose(test::BenchScene::objectNode(kScrewdriverIndex), after);
   bench->world->commit();

@@ -44,7 +44,8 @@ TEST(SceneGraph, ReparentKeepsWorldPose) {
   EXPECT_EQ(g.node(cup).parent, cupboard);
   EXPECT_TRUE(g.worldTransform(cup).isApprox(before, 1e-12));
   // T_cup_in_cupboard = T_cupboard^-1 * T_cup
-  EXPECT_TRUE(g.node(cup).T_parent_node.isApprox(g.worldTransform(cupboard).inverse() * before, 1e-12));
+  EXPECT_TRUE(
+      g.node(cup).T_parent_node.isApprox(g.worldTransform(cupboard).inverse() * before, 1e-12));
   g.reparent(cup, kWorldNode);
   EXPECT_TRUE(g.worldTransform(cup).isApprox(before, 1e-12));
   EXPECT_TRUE(g.node(cupboard).children.empty());

@@ -59,7 +59,8 @@ TEST(ArbitraryRays, NormalisedAndChecked) {
   EXPECT_THROW(makeRays({{1, 0, 0}}, {{0, 0, 0}, {1, 1, 1}}), std::invalid_argument);
 }
 
-Eigen::Isometry3d cameraLookingAt(const Eigen::Vector3d& eye, const Eigen::Matrix3d& R_world_optical) {
+Eigen::Isometry3d cameraLookingAt(const Eigen::Vector3d& eye,
+                                  const Eigen::Matrix3d& R_world_optical) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R_world_optical;
   T.translation() = eye;
@@ -74,7 +75,8 @@ TEST(Simulation, DepthOfATiltedPlaneIsAnalytic) {
   wall.transform(Eigen::Isometry3f(Eigen::Translation3f(3, 0, 0)));
   scene.setStaticMap(std::make_shared<TriangleMesh>(wall), 1);
   scene.commit();
-  const Eigen::Matrix3d R_world_optical0 = (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished();
+  const Eigen::Matrix3d R_world_optical0 =
+      (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished();
   const Eigen::Matrix3d R = R_world_optical0 * Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitZ()) *
                             Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX());
   const Eigen::Isometry3d T = cameraLookingAt({0, 0.3, 1.2}, R);

@@ -47,8 +47,10 @@ TEST(ShippedModel, LoadsAndFitsItsMetadata) {
   const ModelInfo info = loadModelInfo(std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml");
   EXPECT_EQ(info.keypoints, kCuboidKeypoints);
   EXPECT_EQ(info.keypoint_order, "dope_cuboid");
-  EXPECT_EQ(info.names, (std::vector<std::string>{"multimeter", "screwdriver", "materialbox", "klt", "relay"}));
-  KeypointDetector detector(std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml");  // runs one pass
+  EXPECT_EQ(info.names,
+            (std::vector<std::string>{"multimeter", "screwdriver", "materialbox", "klt", "relay"}));
+  KeypointDetector detector(std::string(SGT_SOURCE_DIR) +
+                            "/models/sgt_keypoints.yaml");  // runs one pass
   std::ifstream onnx(info.onnx_path, std::ios::binary | std::ios::ate);
   EXPECT_LT(static_cast<double>(onnx.tellg()), 10e6) << "the shipped model must stay under 10 MB";
 }
@@ -60,7 +62,8 @@ TEST(ShippedModel, FindsTheObjectsOfAHeldOutRender) {
   cv::Mat bgr = cv::imread(kDir + "frame.png", cv::IMREAD_COLOR), rgb;
   ASSERT_FALSE(bgr.empty());
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  const ObjectCatalog catalog = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  const ObjectCatalog catalog =
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
   PoseDetector detector(std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml", catalog);
   const auto dets = detector.detect(rgb, cam);
   std::size_t found = 0, located = 0;
@@ -70,13 +73,16 @@ TEST(ShippedModel, FindsTheObjectsOfAHeldOutRender) {
     for (const auto& d : dets) {
       if (d.detection.class_name != t.class_name || iou(d.detection, tb) < 0.5) continue;
       ++found;
-      if (d.pnp.ok() && (d.pnp.T_camera_object.translation() - t.t_camera_object).norm() < 0.1) ++located;
+      if (d.pnp.ok() && (d.pnp.T_camera_object.translation() - t.t_camera_object).norm() < 0.1)
+        ++located;
       break;
     }
   }
-  std::cout << "[ figures  ] " << found << " of " << truth.size() << " objects found (IoU >= 0.5, right class), "
-            << located << " with a PnP pose within 10 cm; " << dets.size() << " detections\n";
-  // The shipped model found 4 of the 6 objects here when it was committed (test/data/detector/README).
+  std::cout << "[ figures  ] " << found << " of " << truth.size()
+            << " objects found (IoU >= 0.5, right class), " << located
+            << " with a PnP pose within 10 cm; " << dets.size() << " detections\n";
+  // The shipped model found 4 of the 6 objects here when it was committed
+  // (test/data/detector/README).
   EXPECT_GE(found, 3u) << "the shipped model no longer finds the objects of its test image";
 }
 

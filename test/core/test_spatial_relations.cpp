@@ -10,15 +10,18 @@
 namespace sgt::relations {
 namespace {
 
-const std::vector<Relation> kAll = {Relation::On,        Relation::In,     Relation::LeftOf, Relation::RightOf,
-                                    Relation::InFrontOf, Relation::Behind, Relation::Above,  Relation::Below};
+const std::vector<Relation> kAll = {Relation::On,      Relation::In,        Relation::LeftOf,
+                                    Relation::RightOf, Relation::InFrontOf, Relation::Behind,
+                                    Relation::Above,   Relation::Below};
 
 // Reference: 0.4 x 0.2 x 0.1 m, so with o = 3.5 the projections reach 1.4 / 0.7 / 0.35 m out.
 OrientedBox reference(const Eigen::Isometry3d& T) { return {T, Eigen::Vector3d(0.2, 0.1, 0.05)}; }
 
 // A small target at `p` in the reference's frame (turned a little about its own axes).
-OrientedBox target(const Eigen::Isometry3d& T_world_ref, const Eigen::Vector3d& p, double half = 0.02) {
-  Eigen::Isometry3d T = T_world_ref * Eigen::Translation3d(p) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ());
+OrientedBox target(const Eigen::Isometry3d& T_world_ref, const Eigen::Vector3d& p,
+                   double half = 0.02) {
+  Eigen::Isometry3d T =
+      T_world_ref * Eigen::Translation3d(p) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ());
   return {T, Eigen::Vector3d::Constant(half)};
 }
 
@@ -35,14 +38,22 @@ std::vector<Eigen::Isometry3d> referencePoses() {
 Eigen::Vector3d inProjection(Relation r) {
   const Eigen::Vector3d h(0.2, 0.1, 0.05);
   switch (r) {
-    case Relation::LeftOf: return {0, h.y() + 3.5 * h.y(), 0};
-    case Relation::RightOf: return {0, -h.y() - 3.5 * h.y(), 0};
-    case Relation::InFrontOf: return {h.x() + 3.5 * h.x(), 0, 0};
-    case Relation::Behind: return {-h.x() - 3.5 * h.x(), 0, 0};
-    case Relation::Above: return {0, 0, h.z() + 3.5 * h.z()};
-    case Relation::Below: return {0, 0, -h.z() - 3.5 * h.z()};
-    case Relation::On: return {0.05, 0.03, h.z() + 0.02 + 0.005};  // 5 mm above the top face
-    case Relation::In: return {0.1, 0.0, 0.0};
+    case Relation::LeftOf:
+      return {0, h.y() + 3.5 * h.y(), 0};
+    case Relation::RightOf:
+      return {0, -h.y() - 3.5 * h.y(), 0};
+    case Relation::InFrontOf:
+      return {h.x() + 3.5 * h.x(), 0, 0};
+    case Relation::Behind:
+      return {-h.x() - 3.5 * h.x(), 0, 0};
+    case Relation::Above:
+      return {0, 0, h.z() + 3.5 * h.z()};
+    case Relation::Below:
+      return {0, 0, -h.z() - 3.5 * h.z()};
+    case Relation::On:
+      return {0.05, 0.03, h.z() + 0.02 + 0.005};  // 5 mm above the top face
+    case Relation::In:
+      return {0.1, 0.0, 0.0};
   }
   return {};
 }
@@ -60,15 +71,18 @@ TEST(SpatialRelations, EveryRelationStrictInRotatedReferences) {
       for (Relation q : kAll) {
         // Placed for r: r holds strictly; the opposite directions do not, not even relaxed.
         const bool expect = q == r || (r == Relation::On && q == Relation::Above);
-        EXPECT_EQ(holds(q, Mode::Strict, t, reference(T)), expect) << relationName(q) << " for " << relationName(r);
+        EXPECT_EQ(holds(q, Mode::Strict, t, reference(T)), expect)
+            << relationName(q) << " for " << relationName(r);
         if (expect) {
           EXPECT_TRUE(holds(q, Mode::Relaxed, t, reference(T))) << relationName(q);
         }
       }
-      const Relation opposite[] = {Relation::Below, Relation::In,      Relation::RightOf, Relation::LeftOf,
-                                   Relation::Behind, Relation::InFrontOf, Relation::Below,  Relation::Above};
+      const Relation opposite[] = {Relation::Below,  Relation::In,     Relation::RightOf,
+                                   Relation::LeftOf, Relation::Behind, Relation::InFrontOf,
+                                   Relation::Below,  Relation::Above};
       if (isDirectional(r)) {
-        EXPECT_FALSE(holds(opposite[static_cast<int>(r)], Mode::Relaxed, t, reference(T))) << relationName(r);
+        EXPECT_FALSE(holds(opposite[static_cast<int>(r)], Mode::Relaxed, t, reference(T)))
+            << relationName(r);
       }
     }
 }
@@ -97,7 +111,8 @@ TEST(SpatialRelations, Neither) {
   for (const Eigen::Isometry3d& T : referencePoses()) {
     const OrientedBox R = reference(T);
     const OrientedBox far_left = target(T, {0.0, 1.5, 0.0});  // beyond the 0.7 m extrusion
-    const OrientedBox high = target(T, {0.0, 0.0, 0.05 + 0.02 + 0.05});  // above, 5 cm clear of the top
+    const OrientedBox high =
+        target(T, {0.0, 0.0, 0.05 + 0.02 + 0.05});  // above, 5 cm clear of the top
     for (Mode m : {Mode::Strict, Mode::Relaxed}) {
       EXPECT_FALSE(holds(Relation::LeftOf, m, far_left, R));
       EXPECT_FALSE(holds(Relation::In, m, far_left, R));
@@ -141,8 +156,10 @@ TEST(SpatialRelations, ViewpointLeftIsTheViewersLeft) {
   Eigen::Isometry3d T_cam = Eigen::Isometry3d::Identity();  // optical frame looking along world +x
   T_cam.translation() = Eigen::Vector3d(-2, 0, 0.5);
   T_cam.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  const OrientedBox viewer_left = {Eigen::Isometry3d(Eigen::Translation3d(0, 0.4, 0)), Eigen::Vector3d::Constant(0.02)};
-  const OrientedBox nearer = {Eigen::Isometry3d(Eigen::Translation3d(-0.5, 0, 0)), Eigen::Vector3d::Constant(0.02)};
+  const OrientedBox viewer_left = {Eigen::Isometry3d(Eigen::Translation3d(0, 0.4, 0)),
+                                   Eigen::Vector3d::Constant(0.02)};
+  const OrientedBox nearer = {Eigen::Isometry3d(Eigen::Translation3d(-0.5, 0, 0)),
+                              Eigen::Vector3d::Constant(0.02)};
   EXPECT_TRUE(holds(Relation::RightOf, Mode::Strict, viewer_left, R));
   EXPECT_TRUE(holdsFromViewpoint(Relation::LeftOf, Mode::Strict, viewer_left, R, T_cam));
   EXPECT_FALSE(holdsFromViewpoint(Relation::RightOf, Mode::Relaxed, viewer_left, R, T_cam));
@@ -185,7 +202,8 @@ TEST(OrientedBoxes, DistanceAndIntersectionAgreeWithBruteForce) {
       OrientedBox b;
       b.T_world_box = Eigen::Translation3d(0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng)) *
                       Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
-      b.half_extents = Eigen::Vector3d(0.1 + 0.2 * std::abs(u(rng)), 0.05 + 0.1 * std::abs(u(rng)), 0.05 + 0.1 * std::abs(u(rng)));
+      b.half_extents = Eigen::Vector3d(0.1 + 0.2 * std::abs(u(rng)), 0.05 + 0.1 * std::abs(u(rng)),
+                                       0.05 + 0.1 * std::abs(u(rng)));
       return b;
     };
     const OrientedBox a = random(), b = random();
@@ -215,17 +233,22 @@ TEST(OrientedBoxes, DistanceAndIntersectionAgreeWithBruteForce) {
 TEST(OrientedBoxes, EdgeAxisSeparates) {
   // A vertical edge of a (turned 45 deg about z) faces a y-parallel edge of b (turned 45 deg about
   // y): no face axis separates them, the edge-edge axis x does; the gap is 1.5 - 2 * 0.5 * sqrt(2).
-  const OrientedBox a{Eigen::Isometry3d(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ())), Eigen::Vector3d::Constant(0.5)};
-  const OrientedBox b{Eigen::Translation3d(1.5, 0, 0) * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()),
+  const OrientedBox a{Eigen::Isometry3d(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ())),
                       Eigen::Vector3d::Constant(0.5)};
+  const OrientedBox b{
+      Eigen::Translation3d(1.5, 0, 0) * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()),
+      Eigen::Vector3d::Constant(0.5)};
   EXPECT_FALSE(intersects(a, b));
   EXPECT_NEAR(distance(a, b), 1.5 - std::sqrt(2.0), 1e-9);
   OrientedBox closer = b;
   closer.T_world_box.translation().x() = 1.4;
   EXPECT_TRUE(intersects(a, closer));
   EXPECT_EQ(distance(a, closer), 0.0);
-  const OrientedBox far{Eigen::Isometry3d(Eigen::Translation3d(2, 0, 0)), Eigen::Vector3d::Constant(0.5)};
-  EXPECT_NEAR(distance(OrientedBox{Eigen::Isometry3d::Identity(), Eigen::Vector3d::Constant(0.5)}, far), 1.0, 1e-12);
+  const OrientedBox far{Eigen::Isometry3d(Eigen::Translation3d(2, 0, 0)),
+                        Eigen::Vector3d::Constant(0.5)};
+  EXPECT_NEAR(
+      distance(OrientedBox{Eigen::Isometry3d::Identity(), Eigen::Vector3d::Constant(0.5)}, far),
+      1.0, 1e-12);
   EXPECT_TRUE(contains(far, far));
 }
 

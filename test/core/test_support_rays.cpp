@@ -16,7 +16,8 @@ namespace sgt::relations {
 namespace {
 
 constexpr NodeId kTable = 1, kKlt = 2, kRelay = 3, kBall = 4, kHeld = 5;
-const Eigen::Vector3f kTableSize(1.2f, 0.8f, 0.04f), kKltSize(0.4f, 0.3f, 0.15f), kRelaySize(0.05f, 0.05f, 0.08f);
+const Eigen::Vector3f kTableSize(1.2f, 0.8f, 0.04f), kKltSize(0.4f, 0.3f, 0.15f),
+    kRelaySize(0.05f, 0.05f, 0.08f);
 constexpr float kWall = 0.01f, kTableTop = 0.8f, kBallRadius = 0.04f;
 
 Eigen::Isometry3d at(double x, double y, double z, double yaw = 0.0) {
@@ -24,19 +25,25 @@ Eigen::Isometry3d at(double x, double y, double z, double yaw = 0.0) {
 }
 
 OrientedBox boxOf(const RaycastScene& scene, NodeId node) {
-  return orientedBox(scene.mesh(scene.instanceMesh(node)).boundingBox().cast<double>(), scene.instancePose(node));
+  return orientedBox(scene.mesh(scene.instanceMesh(node)).boundingBox().cast<double>(),
+                     scene.instancePose(node));
 }
 
 class SupportRays : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto mesh = [&](TriangleMesh m) { return scene.addMesh(std::make_shared<TriangleMesh>(std::move(m))); };
-    scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox(kTableSize)), 9);  // unused map far below
+    auto mesh = [&](TriangleMesh m) {
+      return scene.addMesh(std::make_shared<TriangleMesh>(std::move(m)));
+    };
+    scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox(kTableSize)),
+                       9);  // unused map far below
     scene.addInstance(kTable, mesh(makeBox(kTableSize)), at(0, 0, kTableTop - kTableSize.z() / 2));
-    scene.addInstance(kKlt, mesh(makeOpenBox(kKltSize, kWall)), at(0.1, 0.0, kTableTop + kKltSize.z() / 2, 0.4));
+    scene.addInstance(kKlt, mesh(makeOpenBox(kKltSize, kWall)),
+                      at(0.1, 0.0, kTableTop + kKltSize.z() / 2, 0.4));
     // The relay stands on the KLT's floor, 2 mm sunk into it (pose noise).
     const double floor = kTableTop + kWall;
-    scene.addInstance(kRelay, mesh(makeBox(kRelaySize)), at(0.12, 0.02, floor + kRelaySize.z() / 2 - 0.002, 1.0));
+    scene.addInstance(kRelay, mesh(makeBox(kRelaySize)),
+                      at(0.12, 0.02, floor + kRelaySize.z() / 2 - 0.002, 1.0));
     const MeshId ball = mesh(makeSphere(kBallRadius));
     scene.addInstance(kBall, ball, at(-0.4, 0.2, kTableTop + kBallRadius));
     scene.addInstance(kHeld, ball, at(-0.4, -0.2, kTableTop + kBallRadius + 0.1));
@@ -86,7 +93,8 @@ TEST_F(SupportRays, OverhangGivesAFraction) {
   scene.commit();
   const Support s = supportBelow(scene, boxOf(scene, kKlt), kKlt);
   EXPECT_EQ(s.node, kTable);
-  EXPECT_NEAR(s.fraction, 0.6, 0.01);  // 3 of 5 grid columns (x = 0.43 ... 0.75) lie over the table (x <= 0.6)
+  EXPECT_NEAR(s.fraction, 0.6,
+              0.01);  // 3 of 5 grid columns (x = 0.43 ... 0.75) lie over the table (x <= 0.6)
 }
 
 // Two tracks of one multimeter: the second on the table, the first 3 cm aside and 2.5 cm higher
@@ -103,19 +111,23 @@ TEST_F(SupportRays, TwoTracksOfOneObjectDoNotSupportEachOther) {
   scene.commit();
   // twin_kind "": the twin takes no part in relations (a tentative track).
   auto edgesWithTwinOf = [&](const std::string& twin_kind) {
-    std::vector<Entity> entities{{"table", kTable, boxOf(scene, kTable), true, "table"},
-                                 {"multimeter_1", kMultimeter, boxOf(scene, kMultimeter), true, "multimeter"}};
-    if (!twin_kind.empty()) entities.push_back({"twin", kTwin, boxOf(scene, kTwin), true, twin_kind});
+    std::vector<Entity> entities{
+        {"table", kTable, boxOf(scene, kTable), true, "table"},
+        {"multimeter_1", kMultimeter, boxOf(scene, kMultimeter), true, "multimeter"}};
+    if (!twin_kind.empty())
+      entities.push_back({"twin", kTwin, boxOf(scene, kTwin), true, twin_kind});
     std::set<std::tuple<std::string, Relation, std::string>> out;
     for (const Edge& e : sceneRelations(entities, &scene, 9, SceneRelationOptions{}))
-      if (e.relation == Relation::On || e.relation == Relation::In) out.emplace(e.subject, e.relation, e.object);
+      if (e.relation == Relation::On || e.relation == Relation::In)
+        out.emplace(e.subject, e.relation, e.object);
     return out;
   };
   const auto same = edgesWithTwinOf("multimeter");
   EXPECT_TRUE(same.count({"multimeter_1", Relation::On, "table"}));
   for (const auto& [subject, relation, object] : same)
     EXPECT_FALSE(subject == "multimeter_1" && object == "twin") << relationName(relation);
-  EXPECT_TRUE(edgesWithTwinOf("").count({"multimeter_1", Relation::On, "table"})) << "rays pass through non-entities";
+  EXPECT_TRUE(edgesWithTwinOf("").count({"multimeter_1", Relation::On, "table"}))
+      << "rays pass through non-entities";
   // Of another kind, the twin is something the multimeter stands in (else no test).
   EXPECT_TRUE(edgesWithTwinOf("relay").count({"multimeter_1", Relation::In, "twin"}));
 }

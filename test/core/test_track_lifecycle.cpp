@@ -34,13 +34,15 @@ TEST(TrackLifecycle, CoastsThroughADropoutRemovesWhatIsGoneKeepsWhatIsHidden) {
   // The board: 30 x 30 cm, 4 cm thick, standing on the bench 25 cm in front of the multimeter
   // (towards the robot), disabled until the take-away.
   const NodeId board = 40;
-  const Eigen::Vector3d to_robot = (bench->T_map_base.translation() - bench->truth[kMultimeter].translation())
-                                       .cwiseProduct(Eigen::Vector3d(1, 1, 0))
-                                       .normalized();
+  const Eigen::Vector3d to_robot =
+      (bench->T_map_base.translation() - bench->truth[kMultimeter].translation())
+          .cwiseProduct(Eigen::Vector3d(1, 1, 0))
+          .normalized();
   Eigen::Isometry3d T_board = test::poseXyzYaw(
       bench->truth[kMultimeter].translation() + 0.25 * to_robot + Eigen::Vector3d(0, 0, 0.13),
       std::atan2(to_robot.y(), to_robot.x()));
-  world.addInstance(board, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.04f, 0.3f, 0.3f}))), T_board);
+  world.addInstance(
+      board, world.addMesh(std::make_shared<TriangleMesh>(makeBox({0.04f, 0.3f, 0.3f}))), T_board);
   world.setInstanceEnabled(board, false);
   world.commit();
 
@@ -69,7 +71,8 @@ TEST(TrackLifecycle, CoastsThroughADropoutRemovesWhatIsGoneKeepsWhatIsHidden) {
     frame.stamp = t;
     frame.T_odom_base = T_odom_base;
     const SimulatedScan scan = simulate(world, *cam_rays, bench->T_map_base * bench->T_base_camera);
-    frame.measurements.push_back(fromDepthImage(cam, cam_rays, depthImage(scan, *cam_rays), T_odom_base * bench->T_base_camera));
+    frame.measurements.push_back(fromDepthImage(cam, cam_rays, depthImage(scan, *cam_rays),
+                                                T_odom_base * bench->T_base_camera));
     addDepthNoise(frame.measurements.back(), 0.0015, 300 + f);
     const bool dropout = t >= 1.0 && t < 2.0;
     for (std::size_t k = 0; k < bench->classes.size() && !dropout; ++k) {
@@ -88,7 +91,9 @@ TEST(TrackLifecycle, CoastsThroughADropoutRemovesWhatIsGoneKeepsWhatIsHidden) {
         }
         const ObjectClass& c = bench->catalog->get(o->class_name);
         coast_error_max = std::max(
-            coast_error_max, poseErrors(c, sampleSurface(*c.mesh, 200, 1).points, o->T_map_object, bench->truth[k]).add_s);
+            coast_error_max,
+            poseErrors(c, sampleSurface(*c.mesh, 200, 1).points, o->T_map_object, bench->truth[k])
+                .add_s);
       }
     }
     if (gone && removed_at < 0 && !findClass(r, "materialbox")) removed_at = t;
@@ -97,8 +102,9 @@ TEST(TrackLifecycle, CoastsThroughADropoutRemovesWhatIsGoneKeepsWhatIsHidden) {
       ASSERT_EQ(r.objects.size(), 5u) << "at t = " << t;
     }
   }
-  std::cout << "[ figures  ] dropout 1 s: worst ADD-S " << coast_error_max * 1000 << " mm; taken away: removed after "
-            << (removed_at - taken_at) << " s; occluded multimeter kept: " << (multimeter_removed ? "no" : "yes") << "\n";
+  std::cout << "[ figures  ] dropout 1 s: worst ADD-S " << coast_error_max * 1000
+            << " mm; taken away: removed after " << (removed_at - taken_at)
+            << " s; occluded multimeter kept: " << (multimeter_removed ? "no" : "yes") << "\n";
   EXPECT_TRUE(all_listed_in_dropout) << "a track vanished during the detector dropout";
   EXPECT_LT(coast_error_max, 0.005) << "coasting tracks must stay at refinement accuracy";
   ASSERT_GT(removed_at, 0.0) << "the materialbox track was never removed";
@@ -106,7 +112,6 @@ TEST(TrackLifecycle, CoastsThroughADropoutRemovesWhatIsGoneKeepsWhatIsHidden) {
   EXPECT_LE(removed_at - taken_at, 1.2) << "the issue asks for removal within ~1 s";
   EXPECT_FALSE(multimeter_removed) << "an occluded object's track must not be removed";
 }
-
 
 // A track hidden behind another *tracked* object takes no evidence of absence from the sliver of
 // rays that still reach it: those graze the occluder and, with the track only a little off, pass
@@ -119,8 +124,10 @@ double removedWhileHiddenAt(double max_hidden_fraction, double& removed_after_un
   RaycastScene& world = *bench->world;
   const std::size_t kMultimeter = 0;
   const ObjectClass& box = bench->catalog->get("materialbox");
-  const Eigen::Isometry3d T_box = test::poseXyzYaw(
-      bench->truth[kMultimeter].translation() + Eigen::Vector3d(0.0, 0.12, 0.5 * box.box.sizes().z() - 0.022), 0.0);
+  const Eigen::Isometry3d T_box =
+      test::poseXyzYaw(bench->truth[kMultimeter].translation() +
+                           Eigen::Vector3d(0.0, 0.12, 0.5 * box.box.sizes().z() - 0.022),
+                       0.0);
   const NodeId occluder = 41;
   world.addInstance(occluder, world.addMesh(box.mesh), T_box);
   world.setInstanceEnabled(occluder, false);
@@ -151,11 +158,12 @@ double removedWhileHiddenAt(double max_hidden_fraction, double& removed_after_un
     frame.stamp = t;
     frame.T_odom_base = bench->T_map_base;
     const SimulatedScan scan = simulate(world, *cam_rays, bench->T_map_base * bench->T_base_camera);
-    frame.measurements.push_back(
-        fromDepthImage(cam, cam_rays, depthImage(scan, *cam_rays), bench->T_map_base * bench->T_base_camera));
+    frame.measurements.push_back(fromDepthImage(cam, cam_rays, depthImage(scan, *cam_rays),
+                                                bench->T_map_base * bench->T_base_camera));
     addDepthNoise(frame.measurements.back(), 0.0015, 500 + f);
     for (std::size_t k = 0; k < bench->classes.size() && f < kCovered; ++k)
-      frame.hypotheses.push_back({bench->classes[k], bench->T_map_base.inverse() * bench->truth[k], 0.9});
+      frame.hypotheses.push_back(
+          {bench->classes[k], bench->T_map_base.inverse() * bench->truth[k], 0.9});
     const PipelineResult r = pipeline.process(frame);
     if (f > kCovered && !findClass(r, "multimeter")) removed_at = t;
   }
@@ -168,15 +176,16 @@ TEST(TrackLifecycle, HiddenBehindATrackItIsKeptAndRemovedOnceUncovered) {
   const double removed_at = removedWhileHiddenAt(0.5, after_uncovered);
   double any_sliver_after = 0.0;
   const double any_sliver_at = removedWhileHiddenAt(1.0, any_sliver_after);
-  std::cout << "[ figures  ] multimeter gone behind a tracked box at 1.0 s, uncovered at 3.0 s: removed at "
+  std::cout << "[ figures  ] multimeter gone behind a tracked box at 1.0 s, uncovered at 3.0 s: "
+               "removed at "
             << removed_at << " s (" << any_sliver_at << " s when any sliver is evidence)\n";
   ASSERT_GT(removed_at, 0.0) << "never removed after it was uncovered";
   EXPECT_GT(after_uncovered, 0.0) << "removed while hidden behind the tracked box";
   EXPECT_LE(after_uncovered, 1.2) << "once uncovered, evidence of absence removes it within ~1 s";
   ASSERT_GT(any_sliver_at, 0.0);
-  EXPECT_LT(any_sliver_after, 0.0) << "the scene must leave a sliver of rays that sees through (else no test)";
+  EXPECT_LT(any_sliver_after, 0.0)
+      << "the scene must leave a sliver of rays that sees through (else no test)";
 }
 
 }  // namespace
 }  // namespace sgt
-

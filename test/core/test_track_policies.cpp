@@ -42,13 +42,18 @@ TrackLife confirmedLife(double stamp) {
 TEST(WeakFitPlacement, PlacesATentativeTrackFromAFewAgreeingPoints) {
   const ObjectQuality weak = fit(RefineStatus::kTooFewPoints, 8, 0.7);
   EXPECT_TRUE(WeakFitPlacement::places(TrackState::kTentative, false, weak, kOptions));
-  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kConfirmed, false, weak, kOptions));  // tentative only
-  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, true, weak, kOptions));   // not a child
-  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kTooFewPoints, 5, 0.7),
+  EXPECT_FALSE(
+      WeakFitPlacement::places(TrackState::kConfirmed, false, weak, kOptions));  // tentative only
+  EXPECT_FALSE(
+      WeakFitPlacement::places(TrackState::kTentative, true, weak, kOptions));  // not a child
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false,
+                                        fit(RefineStatus::kTooFewPoints, 5, 0.7),
                                         kOptions));  // too few
-  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kTooFewPoints, 8, 0.5),
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false,
+                                        fit(RefineStatus::kTooFewPoints, 8, 0.5),
                                         kOptions));  // explains too little
-  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false, fit(RefineStatus::kOk, 8, 0.7), kOptions));
+  EXPECT_FALSE(WeakFitPlacement::places(TrackState::kTentative, false,
+                                        fit(RefineStatus::kOk, 8, 0.7), kOptions));
 }
 
 TEST(WeakFitPlacement, TheTransitionPlacesWithoutAHitAndClearsAbsence) {
@@ -85,7 +90,8 @@ TEST(FitSupport, IsARunningMeanThatStartsAtTheFirstFit) {
   EXPECT_DOUBLE_EQ(FitSupport::next(0.8, 0.4, kOptions), 0.8 + 0.25 * (0.4 - 0.8));
   EXPECT_FALSE(FitSupport::unsupported(false, -1.0, kOptions));  // no fit yet
   EXPECT_TRUE(FitSupport::unsupported(false, 0.5, kOptions));
-  EXPECT_FALSE(FitSupport::unsupported(true, 0.5, kOptions));  // a child's fits are cut by its parent
+  EXPECT_FALSE(
+      FitSupport::unsupported(true, 0.5, kOptions));  // a child's fits are cut by its parent
   EXPECT_FALSE(FitSupport::unsupported(false, 0.7, kOptions));
 }
 
@@ -128,14 +134,16 @@ TEST(Confirmation, FitsExplainingTooFewRaysAreNoHits) {
   EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kConfirmed, 0.5, kOptions));
   TrackLife life;
   life.detections = 10;
-  for (int frame = 0; frame < 10; ++frame) life = next(life, goodFit(0.1 * frame, 0.5), kOptions).life;
+  for (int frame = 0; frame < 10; ++frame)
+    life = next(life, goodFit(0.1 * frame, 0.5), kOptions).life;
   EXPECT_EQ(life.hits, 0);
   EXPECT_EQ(life.state, TrackState::kTentative);
 }
 
 TEST(TentativeAbsence, AFailedFitWhereTheObjectShouldShow) {
   EXPECT_TRUE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 100), kOptions));
-  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kNotVisible, 0, 0.0, 0), kOptions));  // hidden
+  EXPECT_FALSE(
+      TentativeAbsence::absent(fit(RefineStatus::kNotVisible, 0, 0.0, 0), kOptions));  // hidden
   EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 11), kOptions));
   // A degenerate fit is absence only when its few planar inliers are all the object shows.
   EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kDegenerate, 80, 0.8, 100), kOptions));
@@ -199,7 +207,8 @@ TEST(ChildOfContainer, AHiddenChildCollectsNoAbsenceAndIsKept) {
     EXPECT_FALSE(t.remove);
     life = t.life;
   }
-  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, kOptions), kOptions.association_distance);
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, kOptions),
+                   kOptions.association_distance);
 }
 
 TEST(SunkInMap, ATrackInsideTheMapGoesSeenOrNotButNotAChild) {
@@ -238,16 +247,19 @@ TEST(OrientationReSearch, AConfirmedTrackExplainingTooLittleIsSearchedAgainAfter
 }
 
 TEST(DetectionAssociation, GatesAndRestarts) {
-  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions), kOptions.association_distance);
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions),
+                   kOptions.association_distance);
   EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kTooFewPoints, false, kOptions),
                    kOptions.reacquire_distance);
   EXPECT_FALSE(DetectionAssociation::restarts(RefineStatus::kOk, false));
   EXPECT_TRUE(DetectionAssociation::restarts(RefineStatus::kNotVisible, false));
-  EXPECT_FALSE(DetectionAssociation::restarts(RefineStatus::kTooFewPoints, true));  // a weak fit placed it
+  EXPECT_FALSE(
+      DetectionAssociation::restarts(RefineStatus::kTooFewPoints, true));  // a weak fit placed it
 }
 
 TEST(RestartContest, TheDetectionWinsOnlyWithABetterFitThatExplainsItsRays) {
-  EXPECT_FALSE(RestartContest::detectionWins(0, 0.9, kOptions));  // the track's own pose won (or a tie)
+  EXPECT_FALSE(
+      RestartContest::detectionWins(0, 0.9, kOptions));  // the track's own pose won (or a tie)
   EXPECT_TRUE(RestartContest::detectionWins(1, 0.9, kOptions));
   EXPECT_FALSE(RestartContest::detectionWins(1, 0.25, kOptions));  // the edge of an occluder
   EXPECT_TRUE(RestartContest::competes(false));

@@ -81,7 +81,8 @@ TEST(PoseMetrics, AddSToTheSurfaceOfAShiftedCube) {
   const double d = 0.002;
   const double exact = addSError(samples, surface, rotZ(0, {0, 0, d}), rotZ(0));
   EXPECT_NEAR(exact, d / 3.0, 0.05 * d / 3.0);
-  EXPECT_NEAR(addSError(std::vector<Eigen::Vector3f>(samples.begin(), samples.begin() + 500), rotZ(0, {0, 0, d}), rotZ(0)),
+  EXPECT_NEAR(addSError(std::vector<Eigen::Vector3f>(samples.begin(), samples.begin() + 500),
+                        rotZ(0, {0, 0, d}), rotZ(0)),
               d, 0.1 * d);
   EXPECT_NEAR(surface.distance({0, 0, 0.08f}, 1.0f), 0.03f, 1e-6);  // 3 cm above the top face
   EXPECT_FLOAT_EQ(surface.distance({0, 0, 0.08f}, 0.01f), 0.01f);   // nothing within the radius
@@ -98,8 +99,9 @@ TEST(PoseMetrics, NearTwinOfTheMaterialBoxIsCloseToTheSurface) {
   const ModelSurface surface(box.mesh);
   const PoseErrors exact = poseErrors(box, samples, rotZ(180), rotZ(0), &surface);
   const PoseErrors sampled = poseErrors(box, samples, rotZ(180), rotZ(0));
-  std::cout << "[ figures  ] material box half turn: ADD-S " << exact.add_s * 1000 << " mm to the surface, "
-            << sampled.add_s * 1000 << " mm to samples; ADD " << exact.add * 1000 << " mm\n";
+  std::cout << "[ figures  ] material box half turn: ADD-S " << exact.add_s * 1000
+            << " mm to the surface, " << sampled.add_s * 1000 << " mm to samples; ADD "
+            << exact.add * 1000 << " mm\n";
   EXPECT_LT(exact.add_s, 0.0015);
   EXPECT_GT(exact.add_s, 0.0);
   EXPECT_GT(sampled.add_s, 3.0 * exact.add_s);
@@ -110,13 +112,17 @@ TEST(PoseMetrics, ContinuousSymmetryOnlyCountsTheAxisTilt) {
   ObjectClass screwdriver;
   screwdriver.diameter = 0.25;
   screwdriver.symmetry.continuous.push_back({Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero()});
-  const std::vector<Eigen::Vector3f> shaft = {{-0.1f, 0.01f, 0}, {0.1f, 0, 0.01f}, {0, -0.01f, 0}, {0.05f, 0, -0.01f}};
+  const std::vector<Eigen::Vector3f> shaft = {
+      {-0.1f, 0.01f, 0}, {0.1f, 0, 0.01f}, {0, -0.01f, 0}, {0.05f, 0, -0.01f}};
   Eigen::Isometry3d spun = Eigen::Isometry3d::Identity();
   spun.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  EXPECT_NEAR(poseErrors(screwdriver, shaft, spun, Eigen::Isometry3d::Identity()).rotation_deg, 0.0, 1e-6);
-  const PoseErrors tilted = poseErrors(screwdriver, shaft, rotZ(10) * spun, Eigen::Isometry3d::Identity());
+  EXPECT_NEAR(poseErrors(screwdriver, shaft, spun, Eigen::Isometry3d::Identity()).rotation_deg, 0.0,
+              1e-6);
+  const PoseErrors tilted =
+      poseErrors(screwdriver, shaft, rotZ(10) * spun, Eigen::Isometry3d::Identity());
   EXPECT_NEAR(tilted.rotation_deg, 10.0, 1e-6);
-  EXPECT_FALSE(poseErrors(screwdriver, shaft, rotZ(0, {0.03, 0, 0}), Eigen::Isometry3d::Identity()).correct);
+  EXPECT_FALSE(
+      poseErrors(screwdriver, shaft, rotZ(0, {0.03, 0, 0}), Eigen::Isometry3d::Identity()).correct);
 }
 
 }  // namespace

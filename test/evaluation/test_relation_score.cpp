@@ -24,7 +24,8 @@ RelationCounts score(double t, const std::vector<relations::Edge>& edges,
 }
 
 TEST(RelationScore, TruePositivesThroughTheTrackMatching) {
-  const RelationCounts c = score(5.0, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}});
+  const RelationCounts c =
+      score(5.0, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}});
   EXPECT_EQ(c.tp, 2u);
   EXPECT_EQ(c.fp, 0u);
   EXPECT_EQ(c.fn, 0u);
@@ -32,7 +33,8 @@ TEST(RelationScore, TruePositivesThroughTheTrackMatching) {
 
 TEST(RelationScore, FalsePositivesOnlyForDeclaredKindsAndPairs) {
   // relay on klt: declared pair (relay_1, klt_1), declared kind "on", no declaration -> fp.
-  // relay left_of klt: kind not declared -> not judged. klt on relay: pair not declared -> not judged.
+  // relay left_of klt: kind not declared -> not judged. klt on relay: pair not declared -> not
+  // judged.
   const RelationCounts c = score(19.0, {{"relay_3", Relation::On, "klt_1"},
                                         {"relay_3", Relation::LeftOf, "klt_1"},
                                         {"klt_1", Relation::On, "relay_3"},
@@ -45,8 +47,14 @@ TEST(RelationScore, FalsePositivesOnlyForDeclaredKindsAndPairs) {
 TEST(RelationScore, GraceAroundBoundariesAndUntrackedObjects) {
   // 15.3 s is within 0.5 s of the end of "relay on workbench": neither fn nor fp either way.
   EXPECT_EQ(score(15.3, {}).fn, 1u);  // only klt on workbench is missing
-  EXPECT_EQ(score(15.7, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}}).fp, 0u);
-  EXPECT_EQ(score(16.5, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}}).fp, 1u);
+  EXPECT_EQ(
+      score(15.7, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}})
+          .fp,
+      0u);
+  EXPECT_EQ(
+      score(16.5, {{"relay_3", Relation::On, "workbench"}, {"klt_1", Relation::On, "workbench"}})
+          .fp,
+      1u);
   // The relay not tracked: its declarations are not judged, edges naming unmatched tracks neither.
   const RelationCounts c = score(19.0, {{"relay_9", Relation::In, "klt_1"}}, {{"klt_1", "klt_1"}});
   EXPECT_EQ(c.tp + c.fp, 0u);

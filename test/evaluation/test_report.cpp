@@ -9,11 +9,14 @@ namespace {
 
 PoseErrors errors(double add_s_m, double add_m, bool correct) {
   PoseErrors e;
-  e.add_s = add_s_m, e.add = add_m, e.translation = add_m, e.rotation_deg = 1.0, e.correct = correct;
+  e.add_s = add_s_m, e.add = add_m, e.translation = add_m, e.rotation_deg = 1.0,
+  e.correct = correct;
   return e;
 }
 
-bool has(const std::string& json, const std::string& text) { return json.find(text) != std::string::npos; }
+bool has(const std::string& json, const std::string& text) {
+  return json.find(text) != std::string::npos;
+}
 
 TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EvaluationReport r;
@@ -25,7 +28,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   }
   r.addObject(0, "klt_1", "klt", "klt_1", errors(0.002, 0.003, true));
   r.addObject(1, "klt_1", "klt", "klt_1", errors(0.004, 0.005, true));
-  r.addObject(2, "klt_1", "klt", "", std::nullopt);                       // missed: counts against recall
+  r.addObject(2, "klt_1", "klt", "", std::nullopt);  // missed: counts against recall
   r.addObject(3, "klt_1", "klt", "klt_2", errors(0.030, 0.040, false));  // another track: a switch
   r.addObject(4, "klt_1", "klt", "", std::nullopt, false);  // out of the camera's view: not scored
   r.addObject(5, "klt_1", "klt", "klt_3", errors(0.5, 0.5, false), false);  // nor a switch
@@ -34,8 +37,8 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   r.addPresegmentation(c);
   const std::string j = r.json();
   EXPECT_TRUE(has(j, "\"frames\": 4"));
-  EXPECT_TRUE(has(j, "\"add_s_mean_mm\": 12")) << j;  // (2 + 4 + 30) / 3
-  EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;    // (3 + 5 + 40) / 3
+  EXPECT_TRUE(has(j, "\"add_s_mean_mm\": 12")) << j;    // (2 + 4 + 30) / 3
+  EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;      // (3 + 5 + 40) / 3
   EXPECT_TRUE(has(j, "\"recall_adds_10\": 0.5")) << j;  // 2 correct of 4 evaluated
   EXPECT_TRUE(has(j, "\"missed\": 1"));
   EXPECT_TRUE(has(j, "\"out_of_view\": 2"));
@@ -45,11 +48,13 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EXPECT_TRUE(has(j, "\"precision\": 0.9"));
   EXPECT_TRUE(has(j, "\"recall\": 0.9"));
   EXPECT_TRUE(has(j, "\"frame_ms_median\": 11.5"));
-  for (const char* key : {"\"objects\"", "\"rotation_error_mean_deg\"", "\"per_object\"", "\"localization\"",
-                          "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
+  for (const char* key :
+       {"\"objects\"", "\"rotation_error_mean_deg\"", "\"per_object\"", "\"localization\"",
+        "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
     EXPECT_TRUE(has(j, key)) << key;
   EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 | 2 |"));
-  EXPECT_TRUE(has(r.markdown(), " | 0.500 |\n")) << "recall with 3 digits (the goal is 0.99)\n" << r.markdown();
+  EXPECT_TRUE(has(r.markdown(), " | 0.500 |\n")) << "recall with 3 digits (the goal is 0.99)\n"
+                                                 << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
 }
 
@@ -77,15 +82,24 @@ TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
   EXPECT_FALSE(has(r.json(), "\"hypotheses\"")) << "no key when nothing was scored";
   EXPECT_FALSE(has(r.markdown(), "Pose hypotheses"));
   PoseErrors e;
-  for (const double t : {0.010, 0.030, 0.020}) e.translation = t, e.rotation_deg = 100 * t, r.addHypothesis("klt_1", e);
+  for (const double t : {0.010, 0.030, 0.020})
+    e.translation = t, e.rotation_deg = 100 * t, r.addHypothesis("klt_1", e);
   r.addHypothesis("klt_1", std::nullopt);  // in view, no hypothesis within the gate
   r.addHypothesis("screwdriver_1", std::nullopt);
   const std::string j = r.json();
-  EXPECT_TRUE(has(j, "\"hypotheses\": {\n    \"evaluated\": 5,\n    \"found\": 3,\n    \"recall\": 0.6,")) << j;
-  EXPECT_TRUE(has(j, "\"klt_1\": {\n        \"evaluated\": 4,\n        \"found\": 3,\n        \"recall\": 0.75,\n"
-                     "        \"translation_error_median_mm\": 20,\n        \"rotation_error_median_deg\": 2\n")) << j;
-  EXPECT_TRUE(has(j, "\"screwdriver_1\": {\n        \"evaluated\": 1,\n        \"found\": 0,\n        \"recall\": 0,\n"
-                     "        \"translation_error_median_mm\": null")) << j;
+  EXPECT_TRUE(
+      has(j, "\"hypotheses\": {\n    \"evaluated\": 5,\n    \"found\": 3,\n    \"recall\": 0.6,"))
+      << j;
+  EXPECT_TRUE(has(
+      j,
+      "\"klt_1\": {\n        \"evaluated\": 4,\n        \"found\": 3,\n        \"recall\": 0.75,\n"
+      "        \"translation_error_median_mm\": 20,\n        \"rotation_error_median_deg\": 2\n"))
+      << j;
+  EXPECT_TRUE(has(j,
+                  "\"screwdriver_1\": {\n        \"evaluated\": 1,\n        \"found\": 0,\n        "
+                  "\"recall\": 0,\n"
+                  "        \"translation_error_median_mm\": null"))
+      << j;
   EXPECT_TRUE(has(r.markdown(), "| klt_1 | 4 | 3 | 0.750 | 20.0 | 2.0 |")) << r.markdown();
   EXPECT_TRUE(has(r.markdown(), "| screwdriver_1 | 1 | 0 | 0.000 | – | – |")) << r.markdown();
 }

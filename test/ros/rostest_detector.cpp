@@ -25,9 +25,10 @@ class DetectorNodeTest : public ::testing::Test {
   void SetUp() override {
     const YAML::Node j = YAML::LoadFile(kDir + "frame.json");
     cam_.width = j["width"].as<int>(), cam_.height = j["height"].as<int>();
-    cam_.fx = j["K"][0].as<double>(), cam_.cx = j["K"][2].as<double>(), cam_.fy = j["K"][4].as<double>(),
-    cam_.cy = j["K"][5].as<double>();
-    const ObjectCatalog catalog = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+    cam_.fx = j["K"][0].as<double>(), cam_.cx = j["K"][2].as<double>(),
+    cam_.fy = j["K"][4].as<double>(), cam_.cy = j["K"][5].as<double>();
+    const ObjectCatalog catalog =
+        loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
     RaycastScene scene;
     NodeId node = 10;
     for (const auto& o : j["objects"]) {
@@ -50,11 +51,13 @@ class DetectorNodeTest : public ::testing::Test {
     depth_pub_ = nh_.advertise<sensor_msgs::Image>("/test/depth", 5);
     hyp_sub_ = nh_.subscribe("/detector/pose_hypotheses", 5, &DetectorNodeTest::onHypotheses, this);
     rosout_sub_ = nh_.subscribe("/rosout", 100, &DetectorNodeTest::onLog, this);
-    for (int i = 0; i < 300 && (rgb_pub_.getNumSubscribers() == 0 || depth_pub_.getNumSubscribers() == 0 ||
-                                hyp_sub_.getNumPublishers() == 0);
+    for (int i = 0;
+         i < 300 && (rgb_pub_.getNumSubscribers() == 0 || depth_pub_.getNumSubscribers() == 0 ||
+                     hyp_sub_.getNumPublishers() == 0);
          ++i)
       ::ros::Duration(0.1).sleep(), ::ros::spinOnce();
-    ASSERT_GT(depth_pub_.getNumSubscribers(), 0u) << "the detector node did not come up or takes no depth";
+    ASSERT_GT(depth_pub_.getNumSubscribers(), 0u)
+        << "the detector node did not come up or takes no depth";
   }
 
   // One image; with `depth` the registered depth image with the same stamp goes out first.
@@ -85,7 +88,8 @@ class DetectorNodeTest : public ::testing::Test {
     std::size_t n = 0;
     for (const auto& p : h.hypotheses)
       for (const auto& [cls, T] : truth_)
-        if (p.class_name == cls && (ros::toEigen(p.pose).translation() - T.translation()).norm() < 0.1) {
+        if (p.class_name == cls &&
+            (ros::toEigen(p.pose).translation() - T.translation()).norm() < 0.1) {
           ++n;
           break;
         }
@@ -116,15 +120,17 @@ class DetectorNodeTest : public ::testing::Test {
 
 TEST_F(DetectorNodeTest, DistancesComeFromTheRegisteredDepthImage) {
   scene_graph_tracker::PoseHypothesisArrayConstPtr with = sendFrame(true);
-  for (int attempt = 0; attempt < 3 && (!with || with->hypotheses.empty()); ++attempt) with = sendFrame(true);
+  for (int attempt = 0; attempt < 3 && (!with || with->hypotheses.empty()); ++attempt)
+    with = sendFrame(true);
   ASSERT_TRUE(with) << "no hypotheses for the image";
   const std::size_t with_depth = located(*with);
 
   const auto without = sendFrame(false);  // no depth image within depth_max_offset of this one
   ASSERT_TRUE(without) << "the node stopped publishing without depth";
   const std::size_t without_depth = located(*without);
-  std::cout << "[ figures  ] " << with->hypotheses.size() << " hypotheses; within 10 cm of the truth: "
-            << with_depth << " with the depth image, " << without_depth << " from PnP alone\n";
+  std::cout << "[ figures  ] " << with->hypotheses.size()
+            << " hypotheses; within 10 cm of the truth: " << with_depth << " with the depth image, "
+            << without_depth << " from PnP alone\n";
   EXPECT_GE(with_depth, 3u);
   EXPECT_GT(with_depth, without_depth);
   for (int i = 0; i < 20; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();

@@ -16,11 +16,11 @@
 
 #include <random>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
@@ -41,19 +41,23 @@ class TrackerNodeTest : public ::testing::Test {
     catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
     world_.setStaticMap(std::make_shared<TriangleMesh>(building.mesh), 1);
     const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();
-    const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt", "relay"};
+    const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt",
+                                              "relay"};
     const double xs[5] = {-0.45, -0.2, 0.02, 0.3, 0.55}, yaws[5] = {0.3, -0.5, 0.1, 0.2, -0.2};
     for (std::size_t k = 0; k < classes.size(); ++k) {
       const ObjectClass& c = catalog_.get(classes[k]);
       const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
-      truth_.push_back({classes[k], pose(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k])});
+      truth_.push_back(
+          {classes[k], pose(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k])});
       world_.addInstance(10 + static_cast<NodeId>(k), world_.addMesh(c.mesh), truth_.back().second);
     }
-    world_.addInstance(30, world_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
-                       pose(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
+    world_.addInstance(
+        30, world_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
+        pose(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
     world_.commit();
     T_map_base_ = pose(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
-    T_base_camera_ = T_map_base_.inverse() * opticalLookAt(T_map_base_ * Eigen::Vector3d(0.1, 0, 1.25), top);
+    T_base_camera_ =
+        T_map_base_.inverse() * opticalLookAt(T_map_base_ * Eigen::Vector3d(0.1, 0, 1.25), top);
     cam_ = PinholeModel::xtion();
     rays_ = std::make_shared<SensorRays>(makeRays(cam_));
     depth_ = depthImage(simulate(world_, *rays_, T_map_base_ * T_base_camera_), *rays_);
@@ -66,19 +70,23 @@ class TrackerNodeTest : public ::testing::Test {
     points_sub_ = nh_.subscribe("/tracker/unassigned_points", 5, &TrackerNodeTest::onPoints, this);
     rosout_sub_ = nh_.subscribe("/rosout", 100, &TrackerNodeTest::onLog, this);
     geometry_msgs::TransformStamped cam;
-    cam.header.stamp = ::ros::Time::now(), cam.header.frame_id = "base_link", cam.child_frame_id = "camera";
+    cam.header.stamp = ::ros::Time::now(), cam.header.frame_id = "base_link",
+    cam.child_frame_id = "camera";
     cam.transform = ros::toTransform(T_base_camera_);
     static_tf_.sendTransform(cam);
     // Wait for the node (it builds the building's BVH first).
-    for (int i = 0; i < 600 && (depth_pub_.getNumSubscribers() == 0 || objects_sub_.getNumPublishers() == 0); ++i)
+    for (int i = 0;
+         i < 600 && (depth_pub_.getNumSubscribers() == 0 || objects_sub_.getNumPublishers() == 0);
+         ++i)
       ::ros::Duration(0.1).sleep();
     ASSERT_GT(depth_pub_.getNumSubscribers(), 0u) << "the tracker node did not come up";
   }
 
   // One frame: odom -> base at `stamp` (odom = map here), depth image and camera_info, and
   // optionally the detections.
-  void sendFrame(bool hypotheses, const std::vector<float>& depth, const std::string& encoding = "32FC1",
-                 int info_width = 640, const std::string& frame = "camera") {
+  void sendFrame(bool hypotheses, const std::vector<float>& depth,
+                 const std::string& encoding = "32FC1", int info_width = 640,
+                 const std::string& frame = "camera") {
     const ::ros::Time stamp = ::ros::Time::now();
     geometry_msgs::TransformStamped odom;
     odom.header.stamp = stamp, odom.header.frame_id = "odom", odom.child_frame_id = "base_link";
@@ -129,7 +137,8 @@ class TrackerNodeTest : public ::testing::Test {
       for (const auto& o : objects_->objects)
         if (o.class_name == cls) {
           ++matched;
-          worst = std::max(worst, (ros::toEigen(o.pose.pose).translation() - T.translation()).norm());
+          worst =
+              std::max(worst, (ros::toEigen(o.pose.pose).translation() - T.translation()).norm());
         }
     return worst;
   }
@@ -140,9 +149,13 @@ class TrackerNodeTest : public ::testing::Test {
     return false;
   }
 
-  void onObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& m) { objects_ = m, ++objects_count_; }
+  void onObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& m) {
+    objects_ = m, ++objects_count_;
+  }
   void onMarkers(const visualization_msgs::MarkerArrayConstPtr& m) { markers_ = m; }
-  void onPoints(const sensor_msgs::PointCloud2ConstPtr& m) { unassigned_ = std::max<std::size_t>(unassigned_, m->width * m->height); }
+  void onPoints(const sensor_msgs::PointCloud2ConstPtr& m) {
+    unassigned_ = std::max<std::size_t>(unassigned_, m->width * m->height);
+  }
   void onLog(const rosgraph_msgs::LogConstPtr& m) {
     if (m->level >= rosgraph_msgs::Log::WARN) warnings_.push_back(m->msg);
   }
@@ -170,11 +183,13 @@ class TrackerNodeTest : public ::testing::Test {
 TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   run(8, true);  // detections with 1 cm noise
   std::size_t matched = 0;
-  EXPECT_LT(worstError(matched), 0.005);  // refinement brings every object well below the detection noise
+  EXPECT_LT(worstError(matched),
+            0.005);  // refinement brings every object well below the detection noise
   EXPECT_EQ(matched, 5u);
   ASSERT_TRUE(markers_);
   std::size_t meshes = 0;
-  for (const auto& m : markers_->markers) meshes += m.type == visualization_msgs::Marker::MESH_RESOURCE;
+  for (const auto& m : markers_->markers)
+    meshes += m.type == visualization_msgs::Marker::MESH_RESOURCE;
   EXPECT_EQ(meshes, 5u);
   EXPECT_GT(unassigned_, 200u);  // the unknown box on the bench
 
@@ -199,9 +214,10 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   EXPECT_LT(worstError(matched), 0.005);
   EXPECT_EQ(matched, 5u);
 
-  // The node runs with the option structs' defaults: each run-time parameter, as dynamic_reconfigure
-  // holds it (and last gave it to the pipeline), equals the schema's default (config/tracker.yaml;
-  // search_orientations is tracker.launch's detector argument, false here as by default).
+  // The node runs with the option structs' defaults: each run-time parameter, as
+  // dynamic_reconfigure holds it (and last gave it to the pipeline), equals the schema's default
+  // (config/tracker.yaml; search_orientations is tracker.launch's detector argument, false here as
+  // by default).
   dynamic_reconfigure::Reconfigure current;
   ASSERT_TRUE(::ros::service::call("/tracker/set_parameters", current));
   const params::TrackerParameters defaults;
@@ -239,7 +255,8 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   srv.request.config.ints.push_back(rounds);
   ASSERT_TRUE(::ros::service::call("/tracker/set_parameters", srv));
   bool applied = false;
-  for (const auto& i : srv.response.config.ints) applied |= i.name == "refine_rounds" && i.value == 4;
+  for (const auto& i : srv.response.config.ints)
+    applied |= i.name == "refine_rounds" && i.value == 4;
   EXPECT_TRUE(applied);
   run(4, false);
   EXPECT_LT(worstError(matched), 0.005);

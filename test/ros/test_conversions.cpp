@@ -1,6 +1,5 @@
 // Message <-> core conversions: round trips and the errors bad messages must give.
 #include <gtest/gtest.h>
-
 #include <sensor_msgs/image_encodings.h>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
@@ -91,7 +90,8 @@ TEST(Conversions, LidarCloudOrganizedAndUnorganized) {
   }
   // The same points as one unorganized row (like a driver that drops no-returns) bin back.
   sensor_msgs::PointCloud2 flat = cloud;
-  flat.height = 1, flat.width = cloud.width * cloud.height, flat.row_step = flat.width * flat.point_step;
+  flat.height = 1, flat.width = cloud.width * cloud.height,
+  flat.row_step = flat.width * flat.point_step;
   const std::vector<float> binned = rangesFromCloud(flat, model);
   std::size_t same = 0, total = 0;
   for (std::size_t i = 0; i < ranges.size(); ++i)

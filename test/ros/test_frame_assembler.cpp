@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <boost/make_shared.hpp>
-
 #include <limits>
 
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
@@ -43,7 +42,8 @@ sensor_msgs::Image depthAt(double stamp) {
   return img;
 }
 
-scene_graph_tracker::PoseHypothesisArray::Ptr hypothesesAt(double stamp, int count, double x = 0.5) {
+scene_graph_tracker::PoseHypothesisArray::Ptr hypothesesAt(double stamp, int count,
+                                                           double x = 0.5) {
   auto h = boost::make_shared<scene_graph_tracker::PoseHypothesisArray>();
   h->header.stamp = ::ros::Time(stamp);
   h->header.frame_id = kCamera;
@@ -95,7 +95,8 @@ TEST(FrameAssembler, TakesTheNewestScanNotLaterThanTheImageWithTheConfiguredMode
   EXPECT_DOUBLE_EQ(a.cloud->header.stamp.toSec(), 0.95);
   EXPECT_EQ(a.frame.measurements[1].size(), 360u * 32u);
   EXPECT_NEAR(a.frame.measurements[1].T_world_sensor.translation().z(), 2.0, 1e-12);
-  EXPECT_EQ(assembler.assemble(depthAt(1.1), smallCamera()).frame.measurements.size(), 1u);  // used once
+  EXPECT_EQ(assembler.assemble(depthAt(1.1), smallCamera()).frame.measurements.size(),
+            1u);  // used once
   EXPECT_EQ(assembler.assemble(depthAt(1.3), smallCamera()).frame.measurements.size(), 2u);
 }
 

@@ -20,7 +20,8 @@ dynamic_reconfigure::Config message(const TrackerConfig& c) {
 }
 
 // A value of the message by name, as the schema holds it.
-std::optional<params::Value> valueOf(const dynamic_reconfigure::Config& m, const std::string& name) {
+std::optional<params::Value> valueOf(const dynamic_reconfigure::Config& m,
+                                     const std::string& name) {
   for (const auto& b : m.bools)
     if (b.name == name) return params::Value(static_cast<bool>(b.value));
   for (const auto& i : m.ints)
@@ -32,8 +33,8 @@ std::optional<params::Value> valueOf(const dynamic_reconfigure::Config& m, const
 
 TEST(TrackerReconfigure, HoldsTheRuntimeParametersOfTheSchema) {
   const params::TrackerParameters defaults;
-  const auto dflt = message(TrackerConfig::__getDefault__()), min = message(TrackerConfig::__getMin__()),
-             max = message(TrackerConfig::__getMax__());
+  const auto dflt = message(TrackerConfig::__getDefault__()),
+             min = message(TrackerConfig::__getMin__()), max = message(TrackerConfig::__getMax__());
   std::set<std::string> expected;
   for (const auto& p : params::trackerSchema()) {
     if (!p.runtime) continue;
@@ -44,7 +45,8 @@ TEST(TrackerReconfigure, HoldsTheRuntimeParametersOfTheSchema) {
     ASSERT_TRUE(v) << "not in cfg/Tracker.cfg";
     ASSERT_EQ(v->index(), p.get(defaults).index()) << "type";
     if (p.single) {
-      EXPECT_EQ(static_cast<float>(std::get<double>(*v)), static_cast<float>(std::get<double>(p.get(defaults))));
+      EXPECT_EQ(static_cast<float>(std::get<double>(*v)),
+                static_cast<float>(std::get<double>(p.get(defaults))));
     } else {
       EXPECT_TRUE(*v == p.get(defaults)) << "default";
     }
@@ -64,8 +66,10 @@ TEST(TrackerReconfigure, HoldsTheRuntimeParametersOfTheSchema) {
 TEST(TrackerReconfigure, ValuesPassUnchanged) {
   // Non-default values (floats among them) into a Config and back.
   params::TrackerParameters p;
-  p.pipeline.refiner.rounds = 5, p.pipeline.refiner.max_dist_last = 0.0173f, p.pipeline.association_distance = 0.123;
-  p.pipeline.localize = false, p.pipeline.relation_options.directional_mode = relations::Mode::Relaxed;
+  p.pipeline.refiner.rounds = 5, p.pipeline.refiner.max_dist_last = 0.0173f,
+  p.pipeline.association_distance = 0.123;
+  p.pipeline.localize = false,
+  p.pipeline.relation_options.directional_mode = relations::Mode::Relaxed;
   TrackerConfig c = TrackerConfig::__getDefault__();
   dynamic_reconfigure::Config m = message(c);
   toReconfigure(params::trackerSchema(), p, m);

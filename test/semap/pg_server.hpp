@@ -1,9 +1,10 @@
 // A throw-away PostgreSQL + PostGIS cluster for the SEMAP tests and benchmarks: a fresh temp
 // directory (chowned to postgres when run as root), a free loopback port, started and stopped with
 // scripts/semap-db.sh (so the tests use the same script as the launch files), removed at the end.
-//   SGT_REQUIRE_POSTGRES();   // in a test: skips with a message when PostgreSQL/PostGIS are missing
-//   sgt::test::PgServer pg;   // initdb + start + database "semap" with the schema
-//   sgt::semap::SemapDb db(pg.settings());    // or pg.freshDatabase(): an empty copy with the schema
+//   SGT_REQUIRE_POSTGRES();   // in a test: skips with a message when PostgreSQL/PostGIS are
+//   missing sgt::test::PgServer pg;   // initdb + start + database "semap" with the schema
+//   sgt::semap::SemapDb db(pg.settings());    // or pg.freshDatabase(): an empty copy with the
+//   schema
 #pragma once
 
 #include <arpa/inet.h>
@@ -25,10 +26,12 @@ class PgServer {
  public:
   // Empty when the binaries are there; else why the database tests cannot run.
   static std::string missing() {
-    if (!exists("/usr/lib/postgresql/*/bin/pg_ctl")) return "PostgreSQL binaries not found (postgresql-15)";
+    if (!exists("/usr/lib/postgresql/*/bin/pg_ctl"))
+      return "PostgreSQL binaries not found (postgresql-15)";
     if (!exists("/usr/share/postgresql/*/extension/postgis_sfcgal.control"))
       return "PostGIS with SFCGAL not found (postgresql-15-postgis-3)";
-    if (getuid() == 0 && !exists("/usr/bin/su") && !exists("/bin/su")) return "running as root without su";
+    if (getuid() == 0 && !exists("/usr/bin/su") && !exists("/bin/su"))
+      return "running as root without su";
     return "";
   }
 
@@ -46,17 +49,20 @@ class PgServer {
   PgServer& operator=(const PgServer&) = delete;
 
   void start() {
-    if (script("start") != 0) throw std::runtime_error("PgServer: could not start (see " + dir_ + "/script.log)");
+    if (script("start") != 0)
+      throw std::runtime_error("PgServer: could not start (see " + dir_ + "/script.log)");
   }
   void stop() {
-    if (script("stop") != 0) throw std::runtime_error("PgServer: could not stop (see " + dir_ + "/script.log)");
+    if (script("stop") != 0)
+      throw std::runtime_error("PgServer: could not stop (see " + dir_ + "/script.log)");
   }
 
   // A new database with the schema and no data (a copy of "semap"), for one test.
   semap::DbSettings freshDatabase() {
     semap::DbSettings s = settings();
     s.dbname = "test_" + std::to_string(++databases_);
-    pqxx::connection c("host=127.0.0.1 port=" + std::to_string(port_) + " user=postgres dbname=postgres");
+    pqxx::connection c("host=127.0.0.1 port=" + std::to_string(port_) +
+                       " user=postgres dbname=postgres");
     pqxx::nontransaction(c).exec("CREATE DATABASE " + s.dbname + " TEMPLATE semap");
     return s;
   }
@@ -88,8 +94,9 @@ class PgServer {
     return ntohs(a.sin_port);
   }
   int script(const std::string& cmd) const {
-    const std::string line = std::string(SGT_SOURCE_DIR) + "/scripts/semap-db.sh " + cmd + " '" + dir_ + "' " +
-                             std::to_string(port_) + " semap >> '" + dir_ + "/script.log' 2>&1";
+    const std::string line = std::string(SGT_SOURCE_DIR) + "/scripts/semap-db.sh " + cmd + " '" +
+                             dir_ + "' " + std::to_string(port_) + " semap >> '" + dir_ +
+                             "/script.log' 2>&1";
     return std::system(line.c_str());
   }
 
@@ -100,8 +107,8 @@ class PgServer {
 
 }  // namespace sgt::test
 
-#define SGT_REQUIRE_POSTGRES()                                                          \
-  do {                                                                                  \
+#define SGT_REQUIRE_POSTGRES()                                                         \
+  do {                                                                                 \
     const std::string why = ::sgt::test::PgServer::missing();                          \
     if (!why.empty()) GTEST_SKIP() << why << ": the SEMAP database tests are skipped"; \
   } while (0)

@@ -31,7 +31,8 @@ using Triple = std::tuple<std::string, std::string, std::string>;
 
 Eigen::Isometry3d at(const Eigen::Vector3d& t, double yaw = 0.0) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = t, T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t,
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return T;
 }
 
@@ -44,15 +45,18 @@ class SemapBridgeTest : public ::testing::Test {
     const std::string port = "_db_port:=" + std::to_string(pg_->port());
     node_ = fork();
     if (node_ == 0) {
-      execl(SGT_SEMAP_BRIDGE_NODE, SGT_SEMAP_BRIDGE_NODE, "__name:=semap_bridge", port.c_str(), "_write_period:=0.0",
-            "_relation_period:=0.0", "_backoff_max:=0.3", static_cast<char*>(nullptr));
+      execl(SGT_SEMAP_BRIDGE_NODE, SGT_SEMAP_BRIDGE_NODE, "__name:=semap_bridge", port.c_str(),
+            "_write_period:=0.0", "_relation_period:=0.0", "_backoff_max:=0.3",
+            static_cast<char*>(nullptr));
       _exit(127);
     }
     ASSERT_GT(node_, 0);
     graph_pub_ = nh_.advertise<scene_graph_tracker::SceneGraph>("/scene_graph", 10);
-    ASSERT_TRUE(::ros::service::waitForService("/semap_bridge/relation_since", ::ros::Duration(60.0)))
+    ASSERT_TRUE(
+        ::ros::service::waitForService("/semap_bridge/relation_since", ::ros::Duration(60.0)))
         << "the semap_bridge node did not come up";
-    for (int i = 0; i < 100 && graph_pub_.getNumSubscribers() == 0; ++i) ::ros::Duration(0.05).sleep();
+    for (int i = 0; i < 100 && graph_pub_.getNumSubscribers() == 0; ++i)
+      ::ros::Duration(0.05).sleep();
   }
   void TearDown() override {
     if (node_ > 0) {
@@ -67,14 +71,16 @@ class SemapBridgeTest : public ::testing::Test {
     const auto& relay = catalog_.get("relay").box;
     if (!on) return at(Eigen::Vector3d(1.0, 0.0, -relay.min().z()));
     return at(Eigen::Vector3d(-relay.center().x() + 0.03, -relay.center().y(),
-                              klt.max().z() + 0.005 - relay.min().z()), 0.3);
+                              klt.max().z() + 0.005 - relay.min().z()),
+              0.3);
   }
 
   // klt_1 at the origin, relay_1 as the KLT's child, screwdriver_1 beside the KLT (+y: its left).
   void publish(double stamp, bool relay_on) {
     scene_graph_tracker::SceneGraph g;
     g.header.stamp = ::ros::Time(stamp), g.header.frame_id = "map";
-    auto node = [&](const std::string& id, const std::string& cls, const std::string& parent, const Eigen::Isometry3d& T) {
+    auto node = [&](const std::string& id, const std::string& cls, const std::string& parent,
+                    const Eigen::Isometry3d& T) {
       scene_graph_tracker::SceneGraphNode n;
       n.id = id, n.class_name = cls, n.parent = parent, n.T_parent_node = ros::toTransform(T);
       g.nodes.push_back(n);
@@ -92,7 +98,8 @@ class SemapBridgeTest : public ::testing::Test {
     scene_graph_tracker::WhereWas w;
     w.request.id = id, w.request.stamp = ::ros::Time(stamp);
     int round = 0;
-    for (const auto end = ::ros::WallTime::now() + ::ros::WallDuration(timeout); ::ros::WallTime::now() < end; ++round) {
+    for (const auto end = ::ros::WallTime::now() + ::ros::WallDuration(timeout);
+         ::ros::WallTime::now() < end; ++round) {
       if (::ros::service::call("/semap_bridge/where_was", w) && w.response.found &&
           std::abs(w.response.pose_stamp.toSec() - stamp) < 1e-3)
         return true;
@@ -110,8 +117,10 @@ class SemapBridgeTest : public ::testing::Test {
   std::set<Triple> coreRelations(relations::Mode mode, bool relay_on) const {
     const std::vector<std::pair<std::string, relations::OrientedBox>> boxes = {
         {"klt_1", relations::orientedBox(catalog_.get("klt").box.cast<double>(), T_klt_)},
-        {"relay_1", relations::orientedBox(catalog_.get("relay").box.cast<double>(), T_klt_ * relayOnKlt(relay_on))},
-        {"screwdriver_1", relations::orientedBox(catalog_.get("screwdriver").box.cast<double>(), T_screwdriver_)}};
+        {"relay_1", relations::orientedBox(catalog_.get("relay").box.cast<double>(),
+                                           T_klt_ * relayOnKlt(relay_on))},
+        {"screwdriver_1",
+         relations::orientedBox(catalog_.get("screwdriver").box.cast<double>(), T_screwdriver_)}};
     std::set<Triple> out;
     for (const auto& [t, tb] : boxes)
       for (const auto& [r, rb] : boxes)
@@ -182,7 +191,8 @@ TEST_F(SemapBridgeTest, ServicesAnswerFromTheDatabase) {
   EXPECT_NEAR(w.response.pose_stamp.toSec(), 101.0, 1e-3);
   EXPECT_EQ(w.response.parent, "klt_1");
   const Eigen::Isometry3d T_world_relay = T_klt_ * relayOnKlt(false);  // stored in the root frame
-  EXPECT_LT((ros::toEigen(w.response.pose).translation() - T_world_relay.translation()).norm(), 1e-6);
+  EXPECT_LT((ros::toEigen(w.response.pose).translation() - T_world_relay.translation()).norm(),
+            1e-6);
   w.request.stamp = ::ros::Time(99.0);
   ASSERT_TRUE(::ros::service::call("/semap_bridge/where_was", w));
   EXPECT_TRUE(w.response.success);
@@ -200,7 +210,8 @@ TEST_F(SemapBridgeTest, KeepsRunningWhileTheDatabaseIsDown) {
   pg_->stop();
   scene_graph_tracker::ObjectsOn on;
   on.request.reference = "klt_1";
-  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on)) << "the node should answer, not die";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on))
+      << "the node should answer, not die";
   EXPECT_FALSE(on.response.success);
   EXPECT_NE(on.response.message.find("semap database"), std::string::npos) << on.response.message;
   for (int i = 1; i <= 5; ++i) {  // while it is down
@@ -208,7 +219,8 @@ TEST_F(SemapBridgeTest, KeepsRunningWhileTheDatabaseIsDown) {
     ::ros::WallDuration(0.1).sleep();
   }
   pg_->start();
-  for (int i = 1; i <= 5; ++i) EXPECT_TRUE(waitStored("relay_1", 200.0 + i)) << "frame " << i << " lost";
+  for (int i = 1; i <= 5; ++i)
+    EXPECT_TRUE(waitStored("relay_1", 200.0 + i)) << "frame " << i << " lost";
   ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on));
   EXPECT_TRUE(on.response.success) << on.response.message;
   EXPECT_TRUE(on.response.ids.empty());  // the last frame (205) has the relay on the floor

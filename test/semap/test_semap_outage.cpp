@@ -17,7 +17,8 @@ using Clock = std::chrono::steady_clock;
 
 std::shared_ptr<const semap::ClassShape> shape(const std::string& name, double half) {
   auto s = std::make_shared<semap::ClassShape>();
-  s->name = name, s->box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-half), Eigen::Vector3d::Constant(half));
+  s->name = name,
+  s->box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-half), Eigen::Vector3d::Constant(half));
   return s;
 }
 
@@ -37,8 +38,9 @@ semap::Frame frame(int i) {
 // The stamps stored for `id`, in the order the rows arrived.
 std::vector<double> arrivedStamps(semap::SemapDb& db, const std::string& id) {
   std::vector<double> stamps;
-  for (const auto& row : db.query("SELECT extract(epoch FROM stamp)::float8 FROM pose_history WHERE instance_id = '" +
-                                  id + "' ORDER BY arrival"))
+  for (const auto& row :
+       db.query("SELECT extract(epoch FROM stamp)::float8 FROM pose_history WHERE instance_id = '" +
+                id + "' ORDER BY arrival"))
     stamps.push_back(std::stod(row[0]));
   return stamps;
 }
@@ -101,14 +103,20 @@ TEST(SemapOutage, ServerStoppedAndRestartedMidRunLosesNothing) {
   for (const char* id : {"table_1", "box_1", "box_2"}) {
     const auto stamps = arrivedStamps(db, id);
     ASSERT_EQ(stamps.size(), expected.size()) << id;
-    for (std::size_t i = 0; i < stamps.size(); ++i) ASSERT_NEAR(stamps[i], expected[i], 1e-5) << id << " row " << i;
+    for (std::size_t i = 0; i < stamps.size(); ++i)
+      ASSERT_NEAR(stamps[i], expected[i], 1e-5) << id << " row " << i;
   }
-  EXPECT_EQ(db.query("SELECT count(*) FROM relation_history WHERE subject = 'box_1' AND relation = 'on' "
-                     "AND object = 'table_1' AND mode = 'strict'")[0][0], "1");
-  std::printf("[ semap outage ] %d frames (%d rows); server stopped after %d frames for 2.0 s; %zu frames queued at "
-              "most; reconnected %.3f s after the restart (outage %.2f s); %zu written, %zu dropped, %u lost\n",
-              kFrames, 3 * kFrames, pushed_at_stop, s.max_pending, reconnect_s, s.last_outage_s, s.written,
-              s.dropped, 0u);
+  EXPECT_EQ(
+      db.query("SELECT count(*) FROM relation_history WHERE subject = 'box_1' AND relation = 'on' "
+               "AND object = 'table_1' AND mode = 'strict'")[0][0],
+      "1");
+  std::printf(
+      "[ semap outage ] %d frames (%d rows); server stopped after %d frames for 2.0 s; %zu frames "
+      "queued at "
+      "most; reconnected %.3f s after the restart (outage %.2f s); %zu written, %zu dropped, %u "
+      "lost\n",
+      kFrames, 3 * kFrames, pushed_at_stop, s.max_pending, reconnect_s, s.last_outage_s, s.written,
+      s.dropped, 0u);
 }
 
 TEST(SemapOutage, FullQueueDropsTheOldestAndKeepsTheNewest) {

@@ -28,13 +28,16 @@ std::shared_ptr<semap::ClassShape> boxShape(const std::string& name, const Eigen
   return s;
 }
 
-Eigen::Isometry3d iso(const Eigen::Vector3d& t, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+Eigen::Isometry3d iso(const Eigen::Vector3d& t,
+                      const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = t, T.linear() = R;
   return T;
 }
 
-OrientedBox boxOf(const semap::InstancePose& o) { return relations::orientedBox(o.shape->box, o.T_world_object); }
+OrientedBox boxOf(const semap::InstancePose& o) {
+  return relations::orientedBox(o.shape->box, o.T_world_object);
+}
 
 // Random scenes of a reference and two targets placed around it: beside one of its faces (inside
 // or outside its projections), resting on top, inside, or anywhere within reach; references and
@@ -56,8 +59,10 @@ class SceneMaker {
       const OrientedBox r = boxOf(objects.front());
       const bool aligned = coin();  // with R's axes: fits R's projections more often
       const Eigen::Isometry3d T_box =
-          r.T_world_box * iso(placement(r_half, t_half, aligned), aligned ? Eigen::Matrix3d::Identity() : rotation());
-      objects.push_back({tag + "t" + std::to_string(k), boxShape(tag + "t" + std::to_string(k) + "_class", t_centre, t_half),
+          r.T_world_box * iso(placement(r_half, t_half, aligned),
+                              aligned ? Eigen::Matrix3d::Identity() : rotation());
+      objects.push_back({tag + "t" + std::to_string(k),
+                         boxShape(tag + "t" + std::to_string(k) + "_class", t_centre, t_half),
                          "map", T_box * iso(-t_centre)});
     }
     return objects;
@@ -69,7 +74,8 @@ class SceneMaker {
   Eigen::Vector3d vec(double a, double b) { return Eigen::Vector3d(u(a, b), u(a, b), u(a, b)); }
   Eigen::Matrix3d rotation() {
     const double kind = u(0, 1);
-    if (kind < 0.3) return Eigen::AngleAxisd(u(-M_PI, M_PI), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    if (kind < 0.3)
+      return Eigen::AngleAxisd(u(-M_PI, M_PI), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     if (kind < 0.6)
       return (Eigen::AngleAxisd(u(-M_PI, M_PI), Eigen::Vector3d::UnitZ()) *
               Eigen::AngleAxisd(u(-0.3, 0.3), Eigen::Vector3d::UnitX()))
@@ -77,11 +83,13 @@ class SceneMaker {
     return Eigen::Quaterniond(Eigen::Vector4d::Random().normalized()).toRotationMatrix();
   }
   // The target box's centre in the reference box's frame.
-  Eigen::Vector3d placement(const Eigen::Vector3d& r_half, const Eigen::Vector3d& t_half, bool aligned) {
+  Eigen::Vector3d placement(const Eigen::Vector3d& r_half, const Eigen::Vector3d& t_half,
+                            bool aligned) {
     const double kind = u(0, 1);
     Eigen::Vector3d p;
     for (int i = 0; i < 3; ++i)  // aligned: mostly within R's cross-section; else anywhere near it
-      p[i] = aligned ? u(-1.15, 1.15) * std::max(r_half[i] - t_half[i], 0.0) : u(-1.3, 1.3) * r_half[i];
+      p[i] = aligned ? u(-1.15, 1.15) * std::max(r_half[i] - t_half[i], 0.0)
+                     : u(-1.3, 1.3) * r_half[i];
     if (kind < 0.15) return p.cwiseProduct(Eigen::Vector3d::Constant(0.5));  // inside or crossing
     const int axis = static_cast<int>(u(0, 3)) % 3;
     const double sign = coin() ? 1.0 : -1.0;
@@ -90,7 +98,8 @@ class SceneMaker {
       return p;
     }
     if (kind < 0.85) {  // beside a face, mostly within the extrusion length (3.5 x the extent)
-      p[axis] = sign * (r_half[axis] + t_half[axis] + u(-0.1, 1.1) * std::max(7.0 * r_half[axis] - 2.0 * t_half[axis], 0.0));
+      p[axis] = sign * (r_half[axis] + t_half[axis] +
+                        u(-0.1, 1.1) * std::max(7.0 * r_half[axis] - 2.0 * t_half[axis], 0.0));
       return p;
     }
     return vec(-1.0, 1.0).cwiseProduct(r_half * 8.0);  // anywhere within reach
@@ -101,8 +110,8 @@ class SceneMaker {
 
 // The engine's answers for a scene; nullopt when one of them sits within `delta` of a boundary
 // (grown / shrunk target box or distance threshold flips it), so the SQL may round either way.
-std::optional<std::set<Triple>> coreAnswers(const std::vector<semap::InstancePose>& scene, Mode mode,
-                                            double delta = 5e-4) {
+std::optional<std::set<Triple>> coreAnswers(const std::vector<semap::InstancePose>& scene,
+                                            Mode mode, double delta = 5e-4) {
   std::set<Triple> out;
   for (const auto& t : scene)
     for (const auto& r : scene) {
@@ -115,8 +124,10 @@ std::optional<std::set<Triple>> coreAnswers(const std::vector<semap::InstancePos
         relations::RelationOptions o, near = o, far = o;
         near.on_max_distance -= delta, far.on_max_distance += delta;
         const bool h = relations::holds(rel, mode, tb, rb, o);
-        if (h != relations::holds(rel, mode, grown, rb, o) || h != relations::holds(rel, mode, shrunk, rb, o) ||
-            h != relations::holds(rel, mode, tb, rb, near) || h != relations::holds(rel, mode, tb, rb, far))
+        if (h != relations::holds(rel, mode, grown, rb, o) ||
+            h != relations::holds(rel, mode, shrunk, rb, o) ||
+            h != relations::holds(rel, mode, tb, rb, near) ||
+            h != relations::holds(rel, mode, tb, rb, far))
           return std::nullopt;
         if (h) out.insert({t.id, relations::relationName(rel), r.id});
       }
@@ -149,7 +160,8 @@ TEST_F(SemapSqlTest, RelationsEqualTheCoreEngineOnRandomScenes) {
   for (int i = 0; i < 150; ++i) {
     for (;;) {
       const auto scene = maker.scene(i);
-      const auto strict = coreAnswers(scene, Mode::Strict), relaxed = coreAnswers(scene, Mode::Relaxed);
+      const auto strict = coreAnswers(scene, Mode::Strict),
+                 relaxed = coreAnswers(scene, Mode::Relaxed);
       if (!strict || !relaxed) {
         ++rejected;
         continue;
@@ -161,23 +173,30 @@ TEST_F(SemapSqlTest, RelationsEqualTheCoreEngineOnRandomScenes) {
     }
   }
   db_->writeFrame(frame);
-  for (const auto& [mode, name] : {std::pair{Mode::Strict, "strict"}, std::pair{Mode::Relaxed, "relaxed"}}) {
+  for (const auto& [mode, name] :
+       {std::pair{Mode::Strict, "strict"}, std::pair{Mode::Relaxed, "relaxed"}}) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto rows = db_->relations("", "", "", name);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::set<Triple> got;
     std::map<std::string, int> per_relation;
-    for (const auto& r : rows) got.insert({r.subject, r.relation, r.object}), ++per_relation[r.relation];
+    for (const auto& r : rows)
+      got.insert({r.subject, r.relation, r.object}), ++per_relation[r.relation];
     EXPECT_EQ(got, expected[mode]) << name;
     for (int k = 0; k < relations::kRelationCount; ++k)
       EXPECT_GE(per_relation[relations::relationName(static_cast<Relation>(k))], 2)
-          << name << " " << relations::relationName(static_cast<Relation>(k)) << ": the scenes should show it";
+          << name << " " << relations::relationName(static_cast<Relation>(k))
+          << ": the scenes should show it";
     std::string counts;
-    for (const auto& [relation, n] : per_relation) counts += " " + relation + " " + std::to_string(n);
-    std::printf("[ semap ] %s: %zu relations among %zu objects (%s), equal to the engine's; SQL %.0f ms\n", name,
-                got.size(), frame.objects.size(), counts.c_str() + 1, ms);
+    for (const auto& [relation, n] : per_relation)
+      counts += " " + relation + " " + std::to_string(n);
+    std::printf(
+        "[ semap ] %s: %zu relations among %zu objects (%s), equal to the engine's; SQL %.0f ms\n",
+        name, got.size(), frame.objects.size(), counts.c_str() + 1, ms);
   }
-  std::printf("[ semap ] %d scenes regenerated for sitting within 0.5 mm of a boundary\n", rejected);
+  std::printf("[ semap ] %d scenes regenerated for sitting within 0.5 mm of a boundary\n",
+              rejected);
 }
 
 // semap_contains() (extent in the reference's frame) against SFCGAL's exact 3D difference, on
@@ -187,20 +206,24 @@ TEST_F(SemapSqlTest, ContainmentAgreesWithSfcgalDifference) {
   const Eigen::Vector3d c(1, 2, 0.5);
   semap::Frame f;
   f.stamp = 1.0, f.update_relations = false;
-  f.objects = {{"outer", boxShape("outer", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.2, 0.1)), "map", iso(c, R)},
-               {"inside", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)), "map",
-                iso(c + R * Eigen::Vector3d(0.1, 0, 0), R)},
-               {"crossing", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)), "map",
-                iso(c + R * Eigen::Vector3d(0.28, 0, 0), R)},
-               {"outside", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)), "map",
-                iso(c + Eigen::Vector3d(1, 0, 0), R)},
-               {"same", boxShape("outer", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.2, 0.1)), "map", iso(c, R)}};
+  f.objects = {
+      {"outer", boxShape("outer", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.2, 0.1)), "map",
+       iso(c, R)},
+      {"inside", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)),
+       "map", iso(c + R * Eigen::Vector3d(0.1, 0, 0), R)},
+      {"crossing", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)),
+       "map", iso(c + R * Eigen::Vector3d(0.28, 0, 0), R)},
+      {"outside", boxShape("small", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.05, 0.05, 0.02)),
+       "map", iso(c + Eigen::Vector3d(1, 0, 0), R)},
+      {"same", boxShape("outer", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.2, 0.1)), "map",
+       iso(c, R)}};
   db_->writeFrame(f);
   const auto rows = db_->query(R"SQL(
     SELECT i.id, semap_holds('in', 'strict', i.id, 'outer'), ST_Volume(ST_3DDifference(i.box, o.box)) < 1e-9
     FROM instance i, instance o WHERE o.id = 'outer' AND i.id <> 'outer' ORDER BY i.id)SQL");
   ASSERT_EQ(rows.size(), 4u);
-  const std::map<std::string, std::string> expected = {{"crossing", "f"}, {"inside", "t"}, {"outside", "f"}, {"same", "t"}};
+  const std::map<std::string, std::string> expected = {
+      {"crossing", "f"}, {"inside", "t"}, {"outside", "f"}, {"same", "t"}};
   for (const auto& r : rows) {
     EXPECT_EQ(r[1], expected.at(r[0])) << r[0];
     EXPECT_EQ(r[1], r[2]) << r[0] << ": SFCGAL disagrees";
@@ -233,8 +256,11 @@ TEST_F(SemapSqlTest, WhereWasAndSinceComeFromTheHistory) {
   since = db_->relationSince("relay_1", "on", "table_1", "strict");
   ASSERT_TRUE(since.holds && since.since);
   EXPECT_NEAR(*since.since, 13.0, 1e-6);
-  EXPECT_EQ(db_->query("SELECT count(*) FROM relation_history WHERE subject = 'relay_1' AND relation = 'on' "
-                       "AND mode = 'strict' AND until IS NOT NULL")[0][0], "1");
+  EXPECT_EQ(
+      db_->query(
+          "SELECT count(*) FROM relation_history WHERE subject = 'relay_1' AND relation = 'on' "
+          "AND mode = 'strict' AND until IS NOT NULL")[0][0],
+      "1");
 
   const auto p = db_->whereWas("relay_1", 11.5);
   ASSERT_TRUE(p);
@@ -244,7 +270,8 @@ TEST_F(SemapSqlTest, WhereWasAndSinceComeFromTheHistory) {
   EXPECT_FALSE(db_->whereWas("relay_1", 9.0));
   EXPECT_FALSE(db_->whereWas("nobody", 11.0));
 
-  EXPECT_EQ(db_->directionalRelations("relay_1", "table_1", "strict"), std::vector<std::string>{"above"});
+  EXPECT_EQ(db_->directionalRelations("relay_1", "table_1", "strict"),
+            std::vector<std::string>{"above"});
   EXPECT_TRUE(db_->objectsIn("table_1", "strict").empty());
   const auto rel = db_->relations("relay_1", "", "", "strict");
   ASSERT_EQ(rel.size(), 2u);  // above, on (ordered by relation)

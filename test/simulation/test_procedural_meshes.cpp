@@ -2,9 +2,9 @@
 // the real objects' extents and (when asked) triangle counts, primitives are closed and outward.
 #include <gtest/gtest.h>
 
-#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/procedural_objects.hpp"
 
 namespace sgt {
@@ -13,7 +13,9 @@ namespace {
 double signedVolume(const TriangleMesh& m) {
   double v = 0;
   for (const auto& t : m.triangles)
-    v += m.vertices[t[0]].cast<double>().dot(m.vertices[t[1]].cast<double>().cross(m.vertices[t[2]].cast<double>())) / 6.0;
+    v += m.vertices[t[0]].cast<double>().dot(
+             m.vertices[t[1]].cast<double>().cross(m.vertices[t[2]].cast<double>())) /
+         6.0;
   return v;
 }
 

@@ -147,7 +147,8 @@ TEST(Scenario, ValidFileParsesToTheExpectedValues) {
   ASSERT_TRUE(s.objects[1].color.has_value());
   EXPECT_TRUE(s.objects[1].color->isApprox(Eigen::Vector3f(0.1f, 0.9f, 0.2f)));
   EXPECT_EQ(s.objects[1].trajectory.keys().size(), 2u);
-  EXPECT_TRUE(s.objects[1].trajectory.at(1.0).translation().isApprox(Eigen::Vector3d(3.0, 2.0, 0.9)));  // map frame
+  EXPECT_TRUE(s.objects[1].trajectory.at(1.0).translation().isApprox(
+      Eigen::Vector3d(3.0, 2.0, 0.9)));  // map frame
 
   ASSERT_EQ(s.distractors.size(), 2u);
   EXPECT_EQ(s.distractors[0].shape, Shape::Cylinder);
@@ -160,7 +161,8 @@ TEST(Scenario, ValidFileParsesToTheExpectedValues) {
   const Eigen::Isometry3d T_base0 = s.robot.at(0.0), T_base2 = s.robot.at(2.0);
   EXPECT_TRUE(T_base0.translation().isApprox(Eigen::Vector3d(wb.x(), wb.y() + 2.0, 0.0), 1e-12));
   EXPECT_TRUE(T_base2.translation().isApprox(Eigen::Vector3d(wb.x(), wb.y() + 1.1, 0.0), 1e-12));
-  EXPECT_TRUE((T_base0.linear() * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY(), 1e-9));
+  EXPECT_TRUE(
+      (T_base0.linear() * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY(), 1e-9));
 
   EXPECT_EQ(s.camera.model.width, 64);
   EXPECT_EQ(s.camera.model.height, 48);
@@ -171,7 +173,8 @@ TEST(Scenario, ValidFileParsesToTheExpectedValues) {
   const Eigen::Isometry3d& T_bc = s.camera.T_base_camera;
   EXPECT_TRUE(T_bc.translation().isApprox(Eigen::Vector3d(0.1, 0.0, 1.25)));
   const Eigen::Vector3d z_opt = T_bc.linear() * Eigen::Vector3d::UnitZ();
-  EXPECT_TRUE(z_opt.isApprox(Eigen::Vector3d(std::cos(20 * M_PI / 180), 0, -std::sin(20 * M_PI / 180)), 1e-9));
+  EXPECT_TRUE(z_opt.isApprox(
+      Eigen::Vector3d(std::cos(20 * M_PI / 180), 0, -std::sin(20 * M_PI / 180)), 1e-9));
   EXPECT_TRUE((T_bc.linear() * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY(), 1e-9));
   EXPECT_DOUBLE_EQ(s.lidar.rate, 5.0);
   EXPECT_TRUE(s.lidar.T_base_lidar.translation().isApprox(Eigen::Vector3d(0, 0, 0.9)));
@@ -190,8 +193,9 @@ TEST(Scenario, ValidFileParsesToTheExpectedValues) {
 }
 
 TEST(Scenario, LookAtMountPointsTheCameraAtTheTarget) {
-  const std::string text = replaced(kValid, "mount: {xyz: [0.1, 0.0, 1.25], rpy_deg: [0, 20, 0]}",
-                                    "mount: {xyz: [0.1, 0.0, 1.25], look_at: [0, 0, 0], look_at_frame: workbench}");
+  const std::string text =
+      replaced(kValid, "mount: {xyz: [0.1, 0.0, 1.25], rpy_deg: [0, 20, 0]}",
+               "mount: {xyz: [0.1, 0.0, 1.25], look_at: [0, 0, 0], look_at_frame: workbench}");
   const Scenario s = loadScenario(test::writeFile("look_at.yaml", text));
   // At the last robot keyframe the optical axis goes through the workbench origin.
   const Eigen::Isometry3d T_map_cam = s.robot.at(2.0) * s.camera.T_base_camera;
@@ -203,8 +207,10 @@ TEST(Scenario, LookAtMountPointsTheCameraAtTheTarget) {
 TEST(Scenario, KeyframesInterpolateAndHold) {
   PoseKey a, b, c;
   a.t = 1.0, a.position = Eigen::Vector3d(0, 0, 0);
-  b.t = 3.0, b.position = Eigen::Vector3d(2, -4, 6), b.orientation = fromRpy(Eigen::Vector3d(0, 0, 1.2));
-  c.t = 4.0, c.position = Eigen::Vector3d(2, -4, 7), c.orientation = fromRpy(Eigen::Vector3d(0.4, 0, 1.2));
+  b.t = 3.0, b.position = Eigen::Vector3d(2, -4, 6),
+  b.orientation = fromRpy(Eigen::Vector3d(0, 0, 1.2));
+  c.t = 4.0, c.position = Eigen::Vector3d(2, -4, 7),
+  c.orientation = fromRpy(Eigen::Vector3d(0.4, 0, 1.2));
   const PoseTrajectory traj({a, b, c});
   // Held before the first key.
   EXPECT_TRUE(traj.at(0.0).isApprox(traj.at(1.0)));
@@ -219,7 +225,8 @@ TEST(Scenario, KeyframesInterpolateAndHold) {
   EXPECT_NEAR(Eigen::AngleAxisd(q.linear()).angle(), 0.3, 1e-12);
   // Exactly at a key, and between the last two keys: a rotation about x (roll) on top of the yaw.
   EXPECT_TRUE(traj.at(3.0).linear().isApprox(b.orientation.toRotationMatrix(), 1e-12));
-  const Eigen::Matrix3d R_rel = b.orientation.toRotationMatrix().transpose() * traj.at(3.5).linear();
+  const Eigen::Matrix3d R_rel =
+      b.orientation.toRotationMatrix().transpose() * traj.at(3.5).linear();
   EXPECT_NEAR(Eigen::AngleAxisd(R_rel).angle(), 0.2, 1e-9);
   // Held after the last key.
   EXPECT_TRUE(traj.at(4.0).isApprox(traj.at(100.0)));
@@ -246,8 +253,8 @@ TEST(Scenario, FrameTimesFollowTheRate) {
 // Each broken file: the message names the file, the line and the field.
 struct Broken {
   const char* name;
-  const char* from;  // line content replaced ...
-  const char* to;    // ... by this
+  const char* from;     // line content replaced ...
+  const char* to;       // ... by this
   const char* line_of;  // the error's line is the first line containing this (after the change) ...
   const char* message;  // "<field>: <problem>"
   int line_offset = 0;  // ... plus this
@@ -255,19 +262,23 @@ struct Broken {
 
 TEST(Scenario, BrokenFilesNameFileLineAndField) {
   const Broken cases[] = {
-      {"not_a_number.yaml", "{t: 1.0, xyz: [3.0, 2.0, 0.9]}", "{t: soon, xyz: [3.0, 2.0, 0.9]}", "t: soon",
-       "objects[1].keyframes[0].t: expected a number"},
-      {"missing_class.yaml", "    class: relay\n", "", "- id: relay_1", "objects[1].class: required field is missing"},
-      {"missing_duration.yaml", "duration: 2.5\n", "", "seed: 11", "duration: required field is missing"},
+      {"not_a_number.yaml", "{t: 1.0, xyz: [3.0, 2.0, 0.9]}", "{t: soon, xyz: [3.0, 2.0, 0.9]}",
+       "t: soon", "objects[1].keyframes[0].t: expected a number"},
+      {"missing_class.yaml", "    class: relay\n", "", "- id: relay_1",
+       "objects[1].class: required field is missing"},
+      {"missing_duration.yaml", "duration: 2.5\n", "", "seed: 11",
+       "duration: required field is missing"},
       {"unknown_key.yaml", "    color: [0.1, 0.9, 0.2]", "    colour: [0.1, 0.9, 0.2]", "colour:",
-       "objects[1].colour: unknown key (expected one of: id, class, frame, keyframes, inside, color)"},
-      {"unknown_top_key.yaml", "seed: 11", "sed: 11", "sed: 11", "sed: unknown key (expected one of: duration, seed,"},
+       "objects[1].colour: unknown key (expected one of: id, class, frame, keyframes, inside, "
+       "color)"},
+      {"unknown_top_key.yaml", "seed: 11", "sed: 11", "sed: 11",
+       "sed: unknown key (expected one of: duration, seed,"},
       {"unknown_class.yaml", "    class: relay", "    class: hammer", "class: hammer",
        "objects[1].class: unknown class 'hammer' (catalog "},
-      {"short_list.yaml", "{t: 2.0, xyz: [3.2, 2.2, 0.8]", "{t: 2.0, xyz: [3.2, 2.2]", "xyz: [3.2, 2.2]",
-       "objects[1].keyframes[1].xyz: expected a list of 3 numbers, got 2"},
-      {"long_list.yaml", "size: [0.1, 0.2, 0.3]", "size: [0.1, 0.2, 0.3, 0.4]", "size: [0.1, 0.2, 0.3, 0.4]",
-       "distractors[1].size: expected a list of 3 numbers, got 4"},
+      {"short_list.yaml", "{t: 2.0, xyz: [3.2, 2.2, 0.8]", "{t: 2.0, xyz: [3.2, 2.2]",
+       "xyz: [3.2, 2.2]", "objects[1].keyframes[1].xyz: expected a list of 3 numbers, got 2"},
+      {"long_list.yaml", "size: [0.1, 0.2, 0.3]", "size: [0.1, 0.2, 0.3, 0.4]",
+       "size: [0.1, 0.2, 0.3, 0.4]", "distractors[1].size: expected a list of 3 numbers, got 4"},
       {"robot_xy.yaml", "xy: [0.0, 1.1]", "xy: [0.0, 1.1, 0.0]", "xy: [0.0, 1.1, 0.0]",
        "robot.keyframes[1].xy: expected a list of 2 numbers, got 3"},
       {"bad_shape.yaml", "shape: cylinder", "shape: cone", "shape: cone",
@@ -276,38 +287,46 @@ TEST(Scenario, BrokenFilesNameFileLineAndField) {
        "objects[1].keyframes[1].t: keyframe times must increase (previous keyframe has t = 1)"},
       {"bad_container.yaml", "container: klt_1", "container: klt_9", "container: klt_9",
        "objects[1].inside.container: 'klt_9' is not the id of another object"},
-      {"bad_rate.yaml", "  rate: 15", "  rate: -15", "rate: -15", "camera.rate: expected a number > 0"},
+      {"bad_rate.yaml", "  rate: 15", "  rate: -15", "rate: -15",
+       "camera.rate: expected a number > 0"},
       {"bad_probability.yaml", "miss_probability: 0.1", "miss_probability: 1.5", "miss_probability",
        "detections.miss_probability: expected a number in 0..1"},
       {"bad_frame.yaml", "    frame: workbench\n    keyframes:\n      - {t: 0, xyz: [0.3",
        "    frame: bench\n    keyframes:\n      - {t: 0, xyz: [0.3", "frame: bench",
        "objects[0].frame: unknown frame 'bench' (expected map or workbench)"},
-      {"duplicate_id.yaml", "- id: relay_1", "- id: klt_1", "    class: relay", "objects[1].id: duplicate id 'klt_1'",
-       -1},
+      {"duplicate_id.yaml", "- id: relay_1", "- id: klt_1", "    class: relay",
+       "objects[1].id: duplicate id 'klt_1'", -1},
       {"bad_relation.yaml", "relation: on,", "relation: beside,", "relation: beside",
-       "relations[0].relation: unknown relation 'beside' (expected on, in, left_of, right_of, in_front_of, behind, above or below)"},
+       "relations[0].relation: unknown relation 'beside' (expected on, in, left_of, right_of, "
+       "in_front_of, behind, above or below)"},
       {"bad_relation_object.yaml", "    object: relay_1", "    object: relay_9", "object: relay_9",
        "relations[1].object: 'relay_9' is not the id of an object or workbench"},
       {"bad_relation_subject.yaml", "{subject: klt_1,", "{subject: person,", "subject: person",
        "relations[0].subject: 'person' is not the id of an object"},
       {"bad_relation_key.yaml", "    to: 2.0", "    until: 2.0", "until: 2.0",
        "relations[1].until: unknown key (expected one of: subject, relation, object, from, to)"},
-      {"bad_relation_to.yaml", "    to: 2.0", "    to: 0.2", "to: 0.2", "relations[1].to: expected a time after from (0.5)"},
-      {"syntax.yaml", "    radius: 0.25", "    radius: [0.25", "radius: [0.25", "YAML syntax error"},
+      {"bad_relation_to.yaml", "    to: 2.0", "    to: 0.2", "to: 0.2",
+       "relations[1].to: expected a time after from (0.5)"},
+      {"syntax.yaml", "    radius: 0.25", "    radius: [0.25", "radius: [0.25",
+       "YAML syntax error"},
   };
   for (const Broken& c : cases) {
     const std::string text = replaced(kValid, c.from, c.to);
     const std::string message = errorOf(c.name, text);
     int line = lineOf(text, c.line_of) + c.line_offset;
     if (std::string(c.name) == "syntax.yaml") line = -1;  // where the parser notices: checked below
-    const std::string expected = std::string(c.name) + ":" + std::to_string(line) + ": " + c.message;
-    if (line > 0) EXPECT_THAT(message, HasSubstr(expected)) << c.name;
-    else EXPECT_THAT(message, HasSubstr(c.message)) << c.name;
+    const std::string expected =
+        std::string(c.name) + ":" + std::to_string(line) + ": " + c.message;
+    if (line > 0)
+      EXPECT_THAT(message, HasSubstr(expected)) << c.name;
+    else
+      EXPECT_THAT(message, HasSubstr(c.message)) << c.name;
     EXPECT_THAT(message, HasSubstr(c.name));
   }
   EXPECT_THAT(errorOf("syntax.yaml", replaced(kValid, "    radius: 0.25", "    radius: [0.25")),
               ::testing::MatchesRegex(".*syntax\\.yaml:[0-9]+: YAML syntax error.*"));
-  EXPECT_THAT(errorOf("empty.yaml", ""), HasSubstr("empty.yaml:1: expected a map of scenario fields"));
+  EXPECT_THAT(errorOf("empty.yaml", ""),
+              HasSubstr("empty.yaml:1: expected a map of scenario fields"));
   const std::string missing = (std::string(test::tempDir()) + "/does_not_exist.yaml");
   try {
     loadScenario(missing);
@@ -318,7 +337,8 @@ TEST(Scenario, BrokenFilesNameFileLineAndField) {
 }
 
 TEST(Scenario, WorldRendersConsistentFramesAndDetections) {
-  std::string text = replaced(kValid, "false_positives_per_frame: 0.5", "false_positives_per_frame: 3");
+  std::string text =
+      replaced(kValid, "false_positives_per_frame: 0.5", "false_positives_per_frame: 3");
   text = replaced(text, "miss_probability: 0.1", "miss_probability: 0.0\n  min_visible_pixels: 5");
   text = replaced(text, "rpy_deg: [0, 20, 0]}", "rpy_deg: [0, 30, 0]}");
   const Scenario s = loadScenario(test::writeFile("world.yaml", text));
@@ -347,7 +367,8 @@ TEST(Scenario, WorldRendersConsistentFramesAndDetections) {
     if (h.object == 0) {
       ++klt;
       const Eigen::Isometry3d truth = f.T_map_camera.inverse() * f.T_map_objects[0];
-      EXPECT_LT((h.T_camera_object.translation() - truth.translation()).norm(), 6 * 0.02 * std::sqrt(3.0));
+      EXPECT_LT((h.T_camera_object.translation() - truth.translation()).norm(),
+                6 * 0.02 * std::sqrt(3.0));
     } else if (h.object < 0) {
       EXPECT_GT(h.T_camera_object.translation().z(), 0.0);
       const auto px = s.camera.model.project(h.T_camera_object.translation());
@@ -375,7 +396,8 @@ TEST(Scenario, WorldRendersConsistentFramesAndDetections) {
   EXPECT_TRUE(world.odometry(0.0).isApprox(s.robot.at(0.0)));
   EXPECT_TRUE(world.odometry(2.0).isApprox(world.odometry(2.4)));
   EXPECT_LT((world.odometry(2.0).translation() - s.robot.at(2.0).translation()).norm(), 0.2);
-  EXPECT_GT((world.odometry(2.0).translation() - s.robot.at(2.0).translation()).norm(), 1e-6);  // it drifts
+  EXPECT_GT((world.odometry(2.0).translation() - s.robot.at(2.0).translation()).norm(),
+            1e-6);  // it drifts
   const Eigen::Isometry3d prior0 = world.mapToOdom() * world.odometry(0.0);
   EXPECT_TRUE(prior0.translation().isApprox(s.robot.at(0.0) * Eigen::Vector3d(0.1, 0, 0), 1e-9));
   EXPECT_TRUE(prior0.linear().isApprox(s.robot.at(0.0).linear(), 1e-9));

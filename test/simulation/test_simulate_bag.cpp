@@ -27,7 +27,8 @@ namespace {
 class SimulateBag : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scenario_ = new sim::Scenario(sim::loadScenario(std::string(SGT_SOURCE_DIR) + "/config/scenarios/test_short.yaml"));
+    scenario_ = new sim::Scenario(
+        sim::loadScenario(std::string(SGT_SOURCE_DIR) + "/config/scenarios/test_short.yaml"));
     path_ = test::tempDir() + "/short.bag";
     std::size_t calls = 0, last = 0, total = 0;
     summary_ = writeScenarioBag(*scenario_, path_, [&](std::size_t done, std::size_t n) {
@@ -55,16 +56,24 @@ ScenarioBagSummary SimulateBag::summary_;
 TEST_F(SimulateBag, TopicsCountsAndMonotonicStamps) {
   const std::size_t cams = sim::frameTimesNs(s().camera.rate, s().duration).size();
   const std::size_t scans = sim::frameTimesNs(s().lidar.rate, s().duration).size();
-  ASSERT_EQ(cams, 30u);  // 30 Hz x 1 s
+  ASSERT_EQ(cams, 30u);   // 30 Hz x 1 s
   ASSERT_EQ(scans, 10u);  // 10 Hz x 1 s
   EXPECT_EQ(summary_.camera_frames, cams);
   EXPECT_EQ(summary_.lidar_scans, scans);
   EXPECT_EQ(summary_.stamps, cams);  // LiDAR stamps are camera stamps too
-  const std::map<std::string, std::size_t> expected = {
-      {topics::kTfStatic, 1},       {topics::kMapOdomPrior, 1},  {topics::kTf, cams},        {topics::kRgb, cams},
-      {topics::kRgbInfo, cams},     {topics::kDepth, cams},     {topics::kDepthInfo, cams},
-      {topics::kVelodyne, scans},   {topics::kGtObjects, cams}, {topics::kGtBasePose, cams},
-      {topics::kGtDepthLabels, cams}, {topics::kGtVelodyneLabels, scans}, {topics::kHypotheses, cams}};
+  const std::map<std::string, std::size_t> expected = {{topics::kTfStatic, 1},
+                                                       {topics::kMapOdomPrior, 1},
+                                                       {topics::kTf, cams},
+                                                       {topics::kRgb, cams},
+                                                       {topics::kRgbInfo, cams},
+                                                       {topics::kDepth, cams},
+                                                       {topics::kDepthInfo, cams},
+                                                       {topics::kVelodyne, scans},
+                                                       {topics::kGtObjects, cams},
+                                                       {topics::kGtBasePose, cams},
+                                                       {topics::kGtDepthLabels, cams},
+                                                       {topics::kGtVelodyneLabels, scans},
+                                                       {topics::kHypotheses, cams}};
 
   rosbag::Bag bag(path_, rosbag::bagmode::Read);
   rosbag::View view(bag);
@@ -98,8 +107,8 @@ TEST_F(SimulateBag, ImagesAndLabelsAreConsistent) {
   std::map<std::uint64_t, sensor_msgs::CameraInfo> infos;
   for (const rosbag::MessageInstance& m : view) {
     const std::string topic = m.getTopic();
-    if (topic == topics::kDepth || topic == topics::kGtDepthLabels || topic == topics::kGtVelodyneLabels ||
-        topic == topics::kRgb) {
+    if (topic == topics::kDepth || topic == topics::kGtDepthLabels ||
+        topic == topics::kGtVelodyneLabels || topic == topics::kRgb) {
       const auto img = m.instantiate<sensor_msgs::Image>();
       ASSERT_TRUE(img);
       EXPECT_EQ(img->header.stamp, m.getTime()) << topic;
@@ -176,8 +185,9 @@ TEST_F(SimulateBag, ImagesAndLabelsAreConsistent) {
 
 TEST_F(SimulateBag, GroundTruthEqualsTheScenario) {
   rosbag::Bag bag(path_, rosbag::bagmode::Read);
-  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{topics::kGtObjects, topics::kGtBasePose,
-                                                                    topics::kTf, topics::kTfStatic}));
+  rosbag::View view(
+      bag, rosbag::TopicQuery(std::vector<std::string>{topics::kGtObjects, topics::kGtBasePose,
+                                                       topics::kTf, topics::kTfStatic}));
   std::size_t arrays = 0, poses = 0, tfs = 0;
   Eigen::Isometry3d map_odom0 = Eigen::Isometry3d::Identity();
   for (const rosbag::MessageInstance& m : view) {
@@ -191,7 +201,8 @@ TEST_F(SimulateBag, GroundTruthEqualsTheScenario) {
         EXPECT_EQ(a->objects[i].id, s().objects[i].id);
         EXPECT_EQ(a->objects[i].class_name, s().objects[i].class_name);
         const Eigen::Isometry3d truth = s().objects[i].trajectory.at(t);
-        EXPECT_TRUE(toEigen(a->objects[i].pose).isApprox(truth, 1e-6)) << s().objects[i].id << " at " << t;
+        EXPECT_TRUE(toEigen(a->objects[i].pose).isApprox(truth, 1e-6))
+            << s().objects[i].id << " at " << t;
       }
     } else if (const auto p = m.instantiate<geometry_msgs::PoseStamped>()) {
       ++poses;
@@ -224,7 +235,8 @@ TEST_F(SimulateBag, GroundTruthEqualsTheScenario) {
         map_odom0 = toEigen(p->transform);
         const Eigen::Vector3d e = s().noise.odom_initial_error;
         const Eigen::Isometry3d prior0 = map_odom0 * odom_base;
-        EXPECT_TRUE(prior0.translation().isApprox(s().robot.at(0.0) * Eigen::Vector3d(e.x(), e.y(), 0), 1e-6));
+        EXPECT_TRUE(prior0.translation().isApprox(
+            s().robot.at(0.0) * Eigen::Vector3d(e.x(), e.y(), 0), 1e-6));
         EXPECT_NEAR(Eigen::AngleAxisd(map_odom0.linear()).angle(), std::abs(e.z()), 1e-6);
       }
       // The odometry prior stays near the truth (noise of a 0.45 m drive): within 10 cm.
@@ -259,8 +271,9 @@ TEST_F(SimulateBag, HypothesesAreTheTruthWithinTheConfiguredNoise) {
       ++per_class[h.class_name];
       EXPECT_GE(h.score, 0.0f);
       EXPECT_LE(h.score, 1.0f);
-      const auto it = std::find_if(s().objects.begin(), s().objects.end(),
-                                   [&](const sim::ObjectSpec& o) { return o.class_name == h.class_name; });
+      const auto it =
+          std::find_if(s().objects.begin(), s().objects.end(),
+                       [&](const sim::ObjectSpec& o) { return o.class_name == h.class_name; });
       ASSERT_NE(it, s().objects.end()) << h.class_name;
       const Eigen::Isometry3d truth = T_camera_map * it->trajectory.at(t);
       const Eigen::Isometry3d est = toEigen(h.pose);

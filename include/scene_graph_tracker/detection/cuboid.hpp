@@ -20,7 +20,7 @@ std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(const Eigen::Align
 // coordinates to the model frame the keypoints were trained in (identity for the package's own
 // meshes; the pbr_objects KLT has a 90 degree model transform, see model_transforms.yaml).
 // Keypoints in the object frame: T_model_object^-1 applied to the model-frame corners.
-std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(const Eigen::AlignedBox3d& box_model,
-                                                              const Eigen::Isometry3d& T_model_object);
+std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(
+    const Eigen::AlignedBox3d& box_model, const Eigen::Isometry3d& T_model_object);
 
 }  // namespace sgt::detection

@@ -36,7 +36,7 @@ struct PnpResult {
 };
 
 PnpResult solveCuboidPnp(const std::vector<Keypoint>& keypoints,
-                         const std::array<Eigen::Vector3d, kCuboidKeypoints>& object_points, const PinholeModel& camera,
-                         const PnpOptions& options = {});
+                         const std::array<Eigen::Vector3d, kCuboidKeypoints>& object_points,
+                         const PinholeModel& camera, const PnpOptions& options = {});
 
 }  // namespace sgt::detection

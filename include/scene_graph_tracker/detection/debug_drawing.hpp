@@ -10,6 +10,7 @@
 
 namespace sgt::detection {
 
-void drawDetections(cv::Mat& rgb, const std::vector<ObjectDetection>& detections, float min_visibility = 0.5f);
+void drawDetections(cv::Mat& rgb, const std::vector<ObjectDetection>& detections,
+                    float min_visibility = 0.5f);
 
 }  // namespace sgt::detection

@@ -22,8 +22,10 @@ struct DepthTranslationOptions {
 // `depth`: a depth image as range measurements of a pinhole camera registered with the image the
 // detection comes from (same size and intrinsics). nullopt when it is not a pinhole set of that
 // size or too few pixels in the box have a return. `box` is the class's box in the object frame.
-std::optional<Eigen::Isometry3d> depthCorrectedPose(const Detection& detection, const Eigen::Isometry3d& T_camera_object,
-                                                    const Eigen::AlignedBox3d& box, const RangeMeasurements& depth,
+std::optional<Eigen::Isometry3d> depthCorrectedPose(const Detection& detection,
+                                                    const Eigen::Isometry3d& T_camera_object,
+                                                    const Eigen::AlignedBox3d& box,
+                                                    const RangeMeasurements& depth,
                                                     const DepthTranslationOptions& options = {});
 
 }  // namespace sgt::detection

@@ -26,7 +26,7 @@ class DetectorError : public std::runtime_error {
 };
 
 struct ModelInfo {
-  std::string onnx_path;       // resolved
+  std::string onnx_path;  // resolved
   int input_width = 320;
   int input_height = 320;
   std::vector<std::string> names;  // class names in output order
@@ -75,7 +75,8 @@ Letterbox letterboxGeometry(int image_width, int image_height, int input_width, 
 cv::Mat letterbox(const cv::Mat& image, const Letterbox& lb, int pad_value);
 
 struct Keypoint {
-  Eigen::Vector2d px = Eigen::Vector2d::Zero();  // image pixels, centre of pixel (0, 0) at (0, 0) as in camera_info's K
+  Eigen::Vector2d px = Eigen::Vector2d::Zero();  // image pixels, centre of pixel (0, 0) at (0, 0)
+                                                 // as in camera_info's K
   float visibility = 0.0f;                       // 0..1
 };
 
@@ -83,7 +84,8 @@ struct Detection {
   int class_id = -1;
   std::string class_name;
   float score = 0.0f;
-  Eigen::Vector2d box_min = Eigen::Vector2d::Zero(), box_max = Eigen::Vector2d::Zero();  // image px, as keypoints
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero(),
+                  box_max = Eigen::Vector2d::Zero();  // image px, as keypoints
   std::vector<Keypoint> keypoints;
 };
 
@@ -95,8 +97,8 @@ struct DecodeOptions {
 
 // Decodes a raw output blob (dims 1 x C x N, float). Throws DetectorError when C does not match
 // the metadata.
-std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info, const Letterbox& lb,
-                                      const DecodeOptions& options);
+std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info,
+                                      const Letterbox& lb, const DecodeOptions& options);
 
 double iou(const Detection& a, const Detection& b);
 // Class-aware non-maximum suppression: keeps the best-scoring detection of overlapping ones of

@@ -18,8 +18,10 @@ namespace sgt::detection {
 // The canonical camera-frame rotation: diag(1, -1, -1).
 Eigen::Matrix3d canonicalLabelRotation();
 
-// Among T_camera_object * S, S in symmetry.sampled(step), the one closest to the canonical rotation.
-Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
+// Among T_camera_object * S, S in symmetry.sampled(step), the one closest to the canonical
+// rotation.
+Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object,
+                                         const Symmetry& symmetry,
                                          double continuous_step_rad = 5.0 * M_PI / 180.0);
 
 // The box's own turns: the identity and half turns about its x, y and z axes through its centre
@@ -32,12 +34,14 @@ std::array<Eigen::Isometry3d, 4> boxHalfTurns();
 // the multimeter) gets one label for what the image shows instead of two that a regression
 // averages into the box centre. PnP on such keypoints finds the pose up to a box half turn;
 // the tracker's orientation search picks the turn that explains the depth.
-Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
+Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object,
+                                      const Symmetry& symmetry,
                                       double continuous_step_rad = 5.0 * M_PI / 180.0);
 
 struct CuboidProjection {
-  std::array<Eigen::Vector2d, kCuboidKeypoints> uv;  // pixels, centres at integers (0, 0 when not inside)
-  std::array<bool, kCuboidKeypoints> inside{};       // in front of the camera and inside the image
+  std::array<Eigen::Vector2d, kCuboidKeypoints>
+      uv;  // pixels, centres at integers (0, 0 when not inside)
+  std::array<bool, kCuboidKeypoints> inside{};  // in front of the camera and inside the image
 };
 
 // The cuboid keypoints of `box` (object frame) under T_camera_object, projected by `camera`.

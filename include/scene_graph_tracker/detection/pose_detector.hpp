@@ -26,8 +26,8 @@ struct PoseDetectorStats {
 class PoseDetector {
  public:
   // Throws DetectorError when the model cannot be loaded or none of its classes is in the catalog.
-  PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog, DecodeOptions decode = {},
-               PnpOptions pnp = {});
+  PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog,
+               DecodeOptions decode = {}, PnpOptions pnp = {});
 
   KeypointDetector& keypoints() { return detector_; }
   PnpOptions& pnpOptions() { return pnp_; }

@@ -41,11 +41,13 @@ double addSError(const std::vector<Eigen::Vector3f>& model_points, const ModelSu
 
 // Smallest angle (degrees) between R_est and R_true S over the symmetries S; with a continuous
 // symmetry, the tilt of its axis only (its twist is unobservable). PoseErrors::rotation_deg.
-double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_true);
+double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d& R_est,
+                                 const Eigen::Matrix3d& R_true);
 
 struct PoseErrors {
-  double add = 0.0;    // ADD, minimised over the symmetries (BOP's ADD for symmetric objects is ADD-S)
-  double add_s = 0.0;  // ADD-S: to the surface when given, else sampled; never above `add`
+  double add =
+      0.0;  // ADD, minimised over the symmetries (BOP's ADD for symmetric objects is ADD-S)
+  double add_s = 0.0;         // ADD-S: to the surface when given, else sampled; never above `add`
   double translation = 0.0;   // |t_est - t_true| (m)
   double rotation_deg = 0.0;  // smallest angle between R_est and R_true S over the symmetries S
   bool correct = false;       // ADD-S < 10 % of the diameter (BOP recall criterion)

@@ -35,7 +35,8 @@ struct RelationCounts {
 };
 
 struct RelationScoreOptions {
-  double grace = 0.5;  // s around each declared from / to that is not judged (hysteresis, approximate times)
+  double grace =
+      0.5;  // s around each declared from / to that is not judged (hysteresis, approximate times)
 };
 
 // `t`: scenario time; `track_to_object`: track id -> scenario object id for this frame;
@@ -43,6 +44,7 @@ struct RelationScoreOptions {
 RelationCounts scoreRelations(double t, const std::vector<sim::RelationSpec>& declared,
                               const std::vector<relations::Edge>& predicted,
                               const std::map<std::string, std::string>& track_to_object,
-                              const std::set<std::string>& furniture, const RelationScoreOptions& o = {});
+                              const std::set<std::string>& furniture,
+                              const RelationScoreOptions& o = {});
 
 }  // namespace sgt

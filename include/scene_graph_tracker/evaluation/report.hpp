@@ -1,8 +1,8 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.* (with false positives),
-// hypotheses.* (when any were scored), localization.*, presegmentation.*, relations.* (when relations were scored), timing.*),
-// report.md (tables) and timeseries.csv (one row per frame, object and false positive, read by
-// scripts/plot_report.py).
+// hypotheses.* (when any were scored), localization.*, presegmentation.*, relations.* (when
+// relations were scored), timing.*), report.md (tables) and timeseries.csv (one row per frame,
+// object and false positive, read by scripts/plot_report.py).
 #pragma once
 
 #include <map>
@@ -27,10 +27,11 @@ class EvaluationReport {
   // One ground-truth object in one frame: the track matched to it and its errors, or nullopt when
   // the pipeline had no estimate. A change of the matched track id is an identity switch. An
   // object outside the camera's view (`in_view` false: its centre does not project into the
-  // image) is counted as out_of_view and not scored: nothing can see it move (the demo's relay
-  // is picked up while the robot has turned away). Occluded objects in view are scored.
+  // image) is counted as out_of_view and not scored: nothing can see it move (an object picked up
+  // while the robot looks away). Occluded objects in view are scored.
   void addObject(double stamp, const std::string& truth_id, const std::string& class_name,
-                 const std::string& track_id, const std::optional<PoseErrors>& errors, bool in_view = true);
+                 const std::string& track_id, const std::optional<PoseErrors>& errors,
+                 bool in_view = true);
   // A track in the scene graph (confirmed or lost) that no true object was matched to in this
   // frame: a false positive in the CLEAR-MOT sense (a track on a distractor or a person, a
   // duplicate, one far from its object).
@@ -42,7 +43,8 @@ class EvaluationReport {
   void addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
-  // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the scenario.
+  // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the
+  // scenario.
   void addRelations(const RelationCounts& counts, std::size_t declared);
 
   std::size_t frames() const { return frames_.size(); }
@@ -52,7 +54,7 @@ class EvaluationReport {
 
  private:
   std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n"
-  std::string hypothesesJson() const;      // the hypotheses key with its trailing ",\n" (or nothing)
+  std::string hypothesesJson() const;  // the hypotheses key with its trailing ",\n" (or nothing)
   std::string hypothesesMarkdown() const;
   struct ObjectRow {
     double stamp;
@@ -80,7 +82,7 @@ class EvaluationReport {
     std::vector<double> t_mm, r_deg;  // of the found ones
   };
   std::map<std::string, HypothesisCounts> hypotheses_;  // per truth id
-  std::map<std::string, std::string> last_track_;  // truth id -> last matched track id
+  std::map<std::string, std::string> last_track_;       // truth id -> last matched track id
   std::map<std::string, int> switches_;
 };
 

@@ -26,7 +26,8 @@ struct TriangleMesh {
   double surfaceArea() const;
 
   // Appends `other` moved by T (vertices transformed, indices shifted).
-  void append(const TriangleMesh& other, const Eigen::Isometry3f& T = Eigen::Isometry3f::Identity());
+  void append(const TriangleMesh& other,
+              const Eigen::Isometry3f& T = Eigen::Isometry3f::Identity());
   void transform(const Eigen::Isometry3f& T);
   void scale(float s);
 };

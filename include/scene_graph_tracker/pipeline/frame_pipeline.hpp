@@ -52,7 +52,8 @@ struct TrackedObject {
   std::string class_name;
   std::string parent;  // id of the track it is in or on (its scene-graph parent); empty: the world
   Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();  // [t, R] of the filter
+  Eigen::Matrix<double, 6, 6> covariance =
+      Eigen::Matrix<double, 6, 6>::Identity();  // [t, R] of the filter
   TrackState state = TrackState::kTentative;
   ObjectQuality quality;  // of this frame's refinement
   double first_seen = 0.0, last_refined = 0.0, last_hypothesis = 0.0;
@@ -74,8 +75,8 @@ struct PipelineResult {
   LocalizeResult localization;
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
-  std::vector<TrackedObject> objects;  // after refinement (removed tracks are not listed)
-  std::vector<std::string> dropped;    // ids removed this frame
+  std::vector<TrackedObject> objects;            // after refinement (removed tracks are not listed)
+  std::vector<std::string> dropped;              // ids removed this frame
   std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
   std::vector<RangeMeasurements> measurements;   // in the map frame, as used
   StageTimes times;
@@ -87,7 +88,8 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& options);
 
 class FramePipeline {
  public:
-  FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::shared_ptr<const TriangleMesh> static_map,
+  FramePipeline(std::shared_ptr<const ObjectCatalog> catalog,
+                std::shared_ptr<const TriangleMesh> static_map,
                 const PipelineOptions& options = {});
 
   PipelineResult process(PipelineFrame frame);
@@ -100,7 +102,8 @@ class FramePipeline {
   const Eigen::Isometry3d& T_map_odom() const { return T_map_odom_; }
   void setMapOdom(const Eigen::Isometry3d& T) { T_map_odom_ = rigid(T); }
   // Tracks by hand (services): a tentative track of a catalog class at a map pose; its id.
-  std::string addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp);
+  std::string addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object,
+                       double stamp);
   bool removeTrack(const std::string& id);
   void reset();  // forget every track and the map -> odom correction
   NodeId mapNode() const { return map_node_; }
@@ -121,43 +124,52 @@ class FramePipeline {
   void localize(PipelineFrame& frame, PipelineResult& out);
   std::vector<RangeMeasurements> localizationSets(const std::vector<RangeMeasurements>& sets) const;
   std::vector<RangeMeasurements> objectSets(const std::vector<RangeMeasurements>& sets) const;
-  std::vector<PoseHypothesis> acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses) const;
+  std::vector<PoseHypothesis> acceptedHypotheses(
+      const std::vector<PoseHypothesis>& hypotheses) const;
   void predict(double stamp);
-  void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base, double stamp);
-  void refineTracks(const std::vector<RangeMeasurements>& sets, double stamp, std::vector<std::string>& dropped);
+  void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
+                 double stamp);
+  void refineTracks(const std::vector<RangeMeasurements>& sets, double stamp,
+                    std::vector<std::string>& dropped);
   void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);
   std::vector<Presegmentation> presegmentAll(const std::vector<RangeMeasurements>& sets);
   std::vector<TrackedObject> snapshot() const;
 
   // Association (frame_pipeline_association.cpp).
   Eigen::MatrixXd associationCosts(const std::vector<PoseHypothesis>& hypotheses,
-                                   const std::vector<Eigen::Isometry3d>& in_map, double forbidden) const;
+                                   const std::vector<Eigen::Isometry3d>& in_map,
+                                   double forbidden) const;
   void restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object);
 
   // Life cycle (frame_pipeline_lifecycle.cpp): apply this frame's fits to the filters, gather the
   // evidence that needs the scene, advance every track, remove those that go.
   void updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets, double stamp,
                     std::vector<std::string>& dropped);
-  TrackEvidence applyFit(std::size_t k, const ObjectEstimate& fit, const std::vector<RangeMeasurements>& sets,
-                         double stamp, const LifecycleOptions& lo);
+  TrackEvidence applyFit(std::size_t k, const ObjectEstimate& fit,
+                         const std::vector<RangeMeasurements>& sets, double stamp,
+                         const LifecycleOptions& lo);
   void gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
-                           const std::vector<std::size_t>& order, const std::vector<RangeMeasurements>& sets);
+                           const std::vector<std::size_t>& order,
+                           const std::vector<RangeMeasurements>& sets);
   void dropTrack(std::size_t k);
   LifecycleOptions lifecycleOptions() const { return sgt::lifecycleOptions(options_); }
   void setTracksEnabled(bool enabled);
 
   // Whether the measurements show track k missing at its current pose in the scene: of the rays
   // that reach its model, enough (min_points) and most of those that would reach it without the
-  // other tracks (max_hidden_fraction_for_absence) find no surface there. frame_pipeline_visibility.cpp.
+  // other tracks (max_hidden_fraction_for_absence) find no surface there.
+  // frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
-  bool sunkIntoMap(const std::string& class_name, const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
+  bool sunkIntoMap(const std::string& class_name,
+                   const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
   // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.
   bool isChild(NodeId node) const { return graph_.node(node).parent != kWorldNode; }
   bool unsupported(const Track& t) const;      // FitSupport::unsupported
   bool placedByWeakFit(const Track& t) const;  // WeakFitPlacement, from its last fit
   // Covariance scale of a refined pose of track k: few inliers or far from the sensor.
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
-  void contestRestarts(const std::vector<RangeMeasurements>& sets);  // RestartContest, this frame's restarts
+  void contestRestarts(
+      const std::vector<RangeMeasurements>& sets);  // RestartContest, this frame's restarts
   // Of the tracks in needs_orientation_.
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
@@ -169,7 +181,8 @@ class FramePipeline {
   RaycastScene scene_;
   SceneGraph graph_;
   std::map<std::string, MeshId> class_mesh_;
-  std::map<std::string, std::vector<Eigen::Vector3f>> class_samples_;  // surface points, object frame
+  std::map<std::string, std::vector<Eigen::Vector3f>>
+      class_samples_;  // surface points, object frame
   std::map<std::string, int> class_count_;
   std::vector<Track> tracks_;
   std::vector<std::string> needs_orientation_;  // track ids confirmed or restarted: search next

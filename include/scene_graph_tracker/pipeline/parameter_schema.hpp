@@ -46,12 +46,12 @@ struct Param {
   std::string name;
   std::string group;
   Type type = Type::kBool;
-  bool single = false;       // a float field: values are rounded to float
-  double min = 0, max = 0;   // inclusive; numbers only
+  bool single = false;      // a float field: values are rounded to float
+  double min = 0, max = 0;  // inclusive; numbers only
   std::string unit;
-  std::string doc;           // one line, no quotes (dynamic_reconfigure refuses them)
-  bool runtime = false;      // also in dynamic_reconfigure
-  bool in_file = true;       // in config/*.yaml (false: paths, which the launch files set)
+  std::string doc;       // one line, no quotes (dynamic_reconfigure refuses them)
+  bool runtime = false;  // also in dynamic_reconfigure
+  bool in_file = true;   // in config/*.yaml (false: paths, which the launch files set)
   std::function<Value(const Options&)> get;
   std::function<void(Options&, const Value&)> set;  // the value has the parameter's type
 };
@@ -100,7 +100,8 @@ const Param<Options>* find(const Schema<Options>& schema, const std::string& nam
 // Sets one parameter. An int converts to a double parameter, nothing else converts. Throws
 // ParameterError for an unknown name, a wrong type or a value outside [min, max].
 template <class Options>
-void set(const Schema<Options>& schema, Options& options, const std::string& name, const Value& value);
+void set(const Schema<Options>& schema, Options& options, const std::string& name,
+         const Value& value);
 
 // Applies a YAML file (a map; nested maps give '/'-separated names). Throws ParameterError
 // ("FILE: refine/rounds: 50 is outside [1, 30]") for a key that is no parameter, a value of the
@@ -108,7 +109,8 @@ void set(const Schema<Options>& schema, Options& options, const std::string& nam
 template <class Options>
 void applyYamlFile(const Schema<Options>& schema, Options& options, const std::string& path);
 template <class Options>
-void applyYaml(const Schema<Options>& schema, Options& options, const std::string& text, const std::string& origin);
+void applyYaml(const Schema<Options>& schema, Options& options, const std::string& text,
+               const std::string& origin);
 
 // A parameter's name in dynamic_reconfigure: '/' -> '_'.
 std::string reconfigureName(const std::string& name);
@@ -123,18 +125,19 @@ template <class Options>
 std::string range(const Param<Options>& p);
 
 // The generated files (tools/print_parameters.cpp writes them; the test compares).
-std::string trackerYaml();           // config/tracker.yaml
-std::string detectorYaml();          // config/detector.yaml
-std::string trackerReconfigure();    // cfg/Tracker.cfg
-std::string trackerTables();         // the tracker's tables in doc/parameters.md, one per group
-std::string detectorTables();        // the detector's
-std::string trackerIndex();          // README between the "tracker parameters" markers
-std::string detectorIndex();         // README between the "detector parameters" markers
-std::string parameterReference();    // doc/parameters.md
+std::string trackerYaml();         // config/tracker.yaml
+std::string detectorYaml();        // config/detector.yaml
+std::string trackerReconfigure();  // cfg/Tracker.cfg
+std::string trackerTables();       // the tracker's tables in doc/parameters.md, one per group
+std::string detectorTables();      // the detector's
+std::string trackerIndex();        // README between the "tracker parameters" markers
+std::string detectorIndex();       // README between the "detector parameters" markers
+std::string parameterReference();  // doc/parameters.md
 
 // The text between `<!-- BEGIN GENERATED: what -->` and `<!-- END GENERATED: what -->` (lines of
 // their own), and `text` with it replaced by `body`. Throw std::runtime_error without the markers.
 std::string generatedSection(const std::string& text, const std::string& what);
-std::string replaceGeneratedSection(const std::string& text, const std::string& what, const std::string& body);
+std::string replaceGeneratedSection(const std::string& text, const std::string& what,
+                                    const std::string& body);
 
 }  // namespace sgt::params

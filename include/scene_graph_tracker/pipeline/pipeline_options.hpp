@@ -24,52 +24,48 @@ struct PipelineOptions {
   // which may be wrong exactly when the robot pose is (a track a few cm off hides the map
   // behind it); without them, points on objects are outliers that the threshold drops.
   bool localize_against_objects = false;
-  // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise,
-  // as much as a screwdriver's radius) only when the frame has no depth image or when this is set.
+  // Objects are refined from the depth images of a frame; LiDAR returns (sparse, ~1 cm noise, as
+  // much as a thin object's radius) only when the frame has no depth image or when this is set.
   bool refine_with_lidar = false;
   double min_hypothesis_score = 0.3;
   double association_distance = 0.15;  // m, hypothesis to a track's prediction (same class)
   double reacquire_distance = 0.6;     // m, for tracks that are not currently refined well
   int confirm_hits = 3;                // good refinements that confirm a tentative track ...
-  // ... and detections associated with it (the one that started it counts). Refinement alone
-  // confirmed a single false detection on an unknown box of about the right size, and the
-  // confirmed track then explained the box's points (pre-segmentation recall 0.71 in the demo).
+  // ... and detections associated with it (the one that started it counts): refinement alone
+  // confirms a single false detection on an unknown thing of about the right size.
   int confirm_detections = 3;
-  double confirm_inlier_ratio = 0.55;  // ... and whose fits explain at least this fraction of their rays
+  double confirm_inlier_ratio =
+      0.55;  // ... and whose fits explain at least this fraction of their rays
   // A tentative track's fit from fewer inliers than the refiner's alignment.min_points still
   // places the track when it has min_weak_fit_inliers and explains confirm_inlier_ratio of the
   // rays reaching the model: the next frame refines from there rather than from the detection
-  // (it counts neither as a hit nor towards fit support). In the detector demo the screwdriver
-  // at 2.6-2.8 m shows 5-15 rays and its detections are 7-15 cm off along its axis: each fit
-  // got half way to it, and the next detection put the track back.
+  // (it counts neither as a hit nor towards fit support).
   int min_weak_fit_inliers = 6;
   // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
   // a track's good fits, i.e. the share of the rays reaching its model that its measurements
   // agree with (the others pass through the model to something behind it). Confirmation needs
   // it at min_fit_support as well, so a few lucky fits among poor ones do not confirm; a
   // confirmed track below it collects evidence of absence and explains no points in
-  // pre-segmentation. In the detector demo, models fitted to the walking person fell to
-  // 0.3-0.5 within a second of being confirmed; real objects stayed at 0.75 and above
-  // (0.59 for three frames of the multimeter right after it was confirmed).
+  // pre-segmentation. A model fitted to a patch of something else (a person) explains a part of
+  // its rays; a real object nearly all of them.
   double fit_support_weight = 0.25;
   double min_fit_support = 0.65;
   // A track whose model lies partly inside the static map is nowhere a real object can be:
   // when more than max_sunk_fraction of its surface samples are deeper than sink_tolerance_m
   // behind the map's surface (its triangles' winding side), for remove_after_s, it goes, seen or
-  // not. In the detector demo, false tracks sank 2-5 cm into the bench and the floor, where the
-  // map hid them from every ray and no other evidence of absence reached them. Needs a map mesh
-  // wound outwards (or towards where it was scanned from); 1 turns it off.
+  // not: the map hides such a track from every ray, so no other evidence of absence reaches it.
+  // Needs a map mesh wound outwards (or towards where it was scanned from); 1 turns it off.
   double max_sunk_fraction = 0.2;
   double sink_tolerance_m = 0.01;
-  double remove_after_s = 1.0;         // evidence of absence for this long removes a track
+  double remove_after_s = 1.0;  // evidence of absence for this long removes a track
   double remove_tentative_after_s = 0.3;
   double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
-  double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;        // refined pose noise
+  double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;  // refined pose noise
   int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
   // Depth noise grows with range squared: a fit of an object farther than this from the sensor
-  // counts as a weaker measurement, its covariance scaled by (range / far_fit_from_m)^4. At 2.8 m
-  // the screwdriver's fits scatter by +-2 cm (depth sigma 12 mm); without it the filter followed
-  // that scatter and its velocity carried the track 3 cm up when the object was hidden.
+  // counts as a weaker measurement, its covariance scaled by (range / far_fit_from_m)^4, so the
+  // filter does not follow the scatter of far fits (and its velocity does not carry a hidden
+  // track away).
   double far_fit_from_m = 1.0;
   // Evidence of absence needs most of a confirmed object in view: when other tracked objects
   // cover more than this fraction of the rays that would reach it without them, the few rays
@@ -81,32 +77,28 @@ struct PipelineOptions {
   // reacquire_distance); such fits are no evidence of absence either.
   double lost_track_max_jump_m = 0.03;
   double lost_track_resume_inlier_ratio = 0.8;
-  double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;   // detection noise
+  double hypothesis_sigma_m = 0.02, hypothesis_sigma_rad = 0.08;  // detection noise
   // A detection restarts a lost track only when the measurements support it better than the
   // track's own pose: both are refined briefly (orientation_refiner), fits from too few points
   // scored too, and the detection must win by the search's own_margin with a fit explaining
   // confirm_inlier_ratio of its rays; a tie (nothing seen of either: a hidden object) keeps the
   // track. A track sunk into the static map (max_sunk_fraction) does not compete: nothing real is
-  // there (workbench_alt: the multimeter, lost while the person reached over it, coasted 3 cm
-  // down into the bench). In the detector demo the screwdriver at 2.5 m, lost for want of points
-  // (5-15 rays), was put back 6-9 cm short along its axis by every detection, and half hidden by
-  // the passing material box, dragged 4 cm towards the robot.
+  // there. A keypoint detector's pose of a thin or far object is often centimetres off, while a
+  // lost (hidden) object has seldom moved.
   bool contest_restarts = true;
   // Orientation search (orientation_search.hpp): when a track is confirmed, and when a lost track
   // restarts from a detection, it is refined briefly from its rotation turned by each of the 24
   // axis permutations of its box and goes on from the one the measurements support best.
   // For keypoint detectors, which confuse box corners (evaluate --detector and tracker.launch
-  // with detector:=true turn it on). Off by default: with simulated hypotheses (2 deg noise) it
-  // flipped the paper's nearly symmetric multimeter. Tentative tracks (mostly false positives)
-  // are not searched: a search costs ~20 ms.
+  // with detector:=true turn it on). Off by default: on a nearly symmetric shape the search can
+  // trade a right rotation for its near twin. Tentative tracks (mostly false positives) are not
+  // searched: a search refines 24 candidates.
   bool search_orientations = false;
   int max_orientation_searches = 1;  // per frame (each refines 24 candidates): others wait a frame
   double orientation_search_interval_s = 2.0;  // a track is searched again no sooner than this
   // A confirmed track whose fit support stays below this is searched again (every
-  // orientation_search_interval_s): a wrong turn explains fewer of its rays. In the detector demo
-  // with scenario seed 44 the search at confirmation, 2.8 m away, turned the material box by 90 deg
-  // about z; its fit support then stayed at 0.75-0.86 (right tracks: 0.95 and more), and it kept
-  // that turn to the end (ADD-S 11 mm). 0 turns it off.
+  // orientation_search_interval_s): a wrong turn explains fewer of its rays than the right one.
+  // 0 turns it off.
   double research_below_fit_support = 0.9;
   RefinerOptions orientation_refiner = orientationRefinerDefaults();
   bool run_presegmentation = true;

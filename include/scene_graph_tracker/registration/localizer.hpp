@@ -21,20 +21,20 @@ struct LocalizerOptions {
   int steps = 3;
   StepSolver solver = StepSolver::kLinearPointToPlane;
   float max_dist_start = 0.6f;  // first round's threshold (m): covers 30 cm / 5 deg starts
-  float max_dist_min = 0.05f;   // the adaptive threshold never goes below (sensor noise + map error)
+  float max_dist_min = 0.05f;  // the adaptive threshold never goes below (sensor noise + map error)
   float residual_factor = 3.0f;  // next threshold = factor x robust sigma of the inliers' residuals
   // Every image_stride-th pixel of depth images and every scan_stride-th column and ring of LiDAR
   // scans is cast: the map constrains the robot from far fewer rays than the sensors measure.
   int image_stride = 4;
   int scan_stride = 2;
   int min_inliers = 200;
-  double min_inlier_ratio = 0.3;  // inliers / valid measurements whose ray hits the map
+  double min_inlier_ratio = 0.3;        // inliers / valid measurements whose ray hits the map
   double converged_translation = 5e-4;  // a round that moves less (m and rad) ends the search
   double converged_rotation = 1e-4;
   double step_tolerance = 1e-7;
   // Ground robot: correct x, y and yaw only (z, roll and pitch stay with the prior). A VLP-16's
   // +-15 deg barely sees floor and ceiling, so a 6-DoF solve lets small roll/pitch errors grow
-  // over frames and then holds the threshold open (seen in the demo scenario).
+  // over frames and then holds the threshold open.
   bool planar = true;
   AlignmentOptions alignment;
 };
@@ -42,8 +42,8 @@ struct LocalizerOptions {
 enum class LocalizeStatus {
   kOk,
   kTooFewInliers,  // the measurements do not fit the map around the guess: prior kept
-  kDegenerate,     // the map points seen constrain too few directions (e.g. only a floor): prior kept
-  kNotConverged,   // still moving after all rounds: prior kept
+  kDegenerate,  // the map points seen constrain too few directions (e.g. only a floor): prior kept
+  kNotConverged,  // still moving after all rounds: prior kept
 };
 const char* toString(LocalizeStatus s);
 
@@ -68,7 +68,8 @@ class Localizer {
 
   // `measurements` carry their sensor poses for the robot at `T_map_base_prior` (T_world_sensor =
   // T_map_base_prior * T_base_sensor); the map is the scene's static map node.
-  LocalizeResult localize(const RaycastScene& scene, const std::vector<RangeMeasurements>& measurements,
+  LocalizeResult localize(const RaycastScene& scene,
+                          const std::vector<RangeMeasurements>& measurements,
                           const Eigen::Isometry3d& T_map_base_prior) const;
 
  private:

@@ -83,8 +83,8 @@ struct ObjectEstimate {
 };
 
 struct RefineResult {
-  std::vector<ObjectEstimate> objects;           // in the order of the targets
-  std::vector<std::vector<NodeId>> assignment;   // per measurement set, per ray: object or kNoNode
+  std::vector<ObjectEstimate> objects;          // in the order of the targets
+  std::vector<std::vector<NodeId>> assignment;  // per measurement set, per ray: object or kNoNode
   std::size_t rays_cast = 0;
 };
 

@@ -21,7 +21,8 @@ std::vector<Eigen::Matrix3d> cuboidRotations();
 
 // T_world_object turned by each of `rotations` about the centre of `box` (object frame):
 // the detection's box stays where it was seen.
-std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_world_object, const Eigen::AlignedBox3f& box,
+std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_world_object,
+                                                     const Eigen::AlignedBox3f& box,
                                                      const std::vector<Eigen::Matrix3d>& rotations);
 
 struct OrientationChoice {
@@ -36,16 +37,16 @@ struct OrientationChoice {
 // measurements, every other instance of `scene` in place (occlusion as in refinement), and
 // leaves the winner's refined pose in the scene. A candidate scores inliers x inlier ratio x
 // (1 - (rmse / max_dist_last)^2): the points it explains, discounted by the share of its visible
-// surface the measurements do not confirm and by how loosely they fit (MSAC). Another candidate replaces the first (the detection's own) only when it scores more
-// than (1 + own_margin) times as much: on a nearly symmetric shape, or from far away, the scores
-// differ by noise and the detection keeps its say. When no candidate refines to kOk the first
-// stays, unrefined.
-// With `world_up` set, a candidate whose object z axis points up gains up to upright_bonus of
-// its score (objects rest as their meshes are modelled, z up): a closed box upside down explains
-// the depth about as well as upright, and the detector's PnP often gives it upside down.
-// With `weak_fits_score`, candidates whose refinement did not end kOk (too few points, or a
-// false-hypothesis ratio) score by the same formula instead of being passed over: between a
-// far or half-hidden object's poses, a handful of points is all the evidence there is.
+// surface the measurements do not confirm and by how loosely they fit (MSAC). Another candidate
+// replaces the first (the detection's own) only when it scores more than (1 + own_margin) times as
+// much: on a nearly symmetric shape, or from far away, the scores differ by noise and the detection
+// keeps its say. When no candidate refines to kOk the first stays, unrefined. With `world_up` set,
+// a candidate whose object z axis points up gains up to upright_bonus of its score (objects rest as
+// their meshes are modelled, z up): a closed box upside down explains the depth about as well as
+// upright, and the detector's PnP often gives it upside down. With `weak_fits_score`, candidates
+// whose refinement did not end kOk (too few points, or a false-hypothesis ratio) score by the same
+// formula instead of being passed over: between a far or half-hidden object's poses, a handful of
+// points is all the evidence there is.
 struct OrientationPrior {
   double own_margin = 0.05;
   std::optional<Eigen::Vector3d> world_up;
@@ -54,7 +55,8 @@ struct OrientationPrior {
 };
 OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
                                     const std::vector<Eigen::Isometry3d>& candidates,
-                                    const std::vector<RangeMeasurements>& measurements, const RefinerOptions& refiner,
+                                    const std::vector<RangeMeasurements>& measurements,
+                                    const RefinerOptions& refiner,
                                     const OrientationPrior& prior = {});
 
 }  // namespace sgt

@@ -43,8 +43,9 @@ struct PairingStats {
 // Casts `tiles` of `m` (each ray only up to its measured range + max_dist) and returns the
 // accepted pairs per group (|hit range - measured| < max_dist). `hits` is scratch space reused
 // between calls.
-std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, const RangeMeasurements& m,
-                                                  const TileSet& tiles, const NodeGroups& groups, float max_dist,
+std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
+                                                  const RangeMeasurements& m, const TileSet& tiles,
+                                                  const NodeGroups& groups, float max_dist,
                                                   RayHits& hits, PairingStats* stats = nullptr);
 
 enum class NormalSide { kMoving, kFixed };
@@ -63,15 +64,18 @@ struct IterativeAlignment {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // moves `moving` onto `fixed`
   AlignmentStatus status = AlignmentStatus::kTooFewPoints;
   int steps = 0;
-  PairMoments last;  // of the pairs at the last step that summed them (the first, for the linear step)
+  PairMoments
+      last;  // of the pairs at the last step that summed them (the first, for the linear step)
 };
 
 // Up to `steps` steps over fixed pairs; the moving side follows the running estimate.
 // Point-to-plane uses the tangent plane of whichever side carries the normals. Stops early when
 // an update is below `tolerance`, or when the set is degenerate (too few, collinear or planar
 // points: the estimate reached so far is kept).
-IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
-                              const std::vector<Eigen::Vector3f>& normals, NormalSide normal_side, StepSolver solver,
-                              int steps, double tolerance, const AlignmentOptions& options);
+IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
+                              const std::vector<Eigen::Vector3f>& fixed,
+                              const std::vector<Eigen::Vector3f>& normals, NormalSide normal_side,
+                              StepSolver solver, int steps, double tolerance,
+                              const AlignmentOptions& options);
 
 }  // namespace sgt

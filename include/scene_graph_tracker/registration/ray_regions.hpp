@@ -17,7 +17,7 @@ struct ObjectExtent {
 // Grid rectangles of `m` that may see any of the objects, each box grown by `margin_m` on
 // every side. Pinhole: projection of the corners; spinning LiDAR: azimuth / elevation span
 // (split at the azimuth seam); other ray sets: rays passing the grown box's bounding sphere.
-std::vector<GridRect> raysNearObjects(const RangeMeasurements& m, const std::vector<ObjectExtent>& objects,
-                                      float margin_m);
+std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
+                                      const std::vector<ObjectExtent>& objects, float margin_m);
 
 }  // namespace sgt

@@ -26,7 +26,8 @@ struct PairMoments {
     sum_sq += (b - a).squaredNorm();
   }
   PairMoments& operator+=(const PairMoments& o) {
-    n += o.n, sum_a += o.sum_a, sum_b += o.sum_b, sum_ba += o.sum_ba, sum_aa += o.sum_aa, sum_sq += o.sum_sq;
+    n += o.n, sum_a += o.sum_a, sum_b += o.sum_b, sum_ba += o.sum_ba, sum_aa += o.sum_aa,
+        sum_sq += o.sum_sq;
     return *this;
   }
   double rmse() const { return n > 0 ? std::sqrt(sum_sq / n) : 0.0; }

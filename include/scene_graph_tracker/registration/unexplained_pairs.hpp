@@ -27,11 +27,9 @@ struct UnexplainedPairing {
 // `hits` must hold the cast of `tiles` of `m` that collectRayPairs made with `groups` (object k
 // is group k; `meshes[k]` its mesh, `extents[k]` its pose and box). Returns pull pairs per
 // object: measured point, closest model point and its normal (world frame).
-std::vector<std::vector<RayPair>> collectUnexplainedPairs(const RaycastScene& scene, const RangeMeasurements& m,
-                                                          const TileSet& tiles, const RayHits& hits,
-                                                          const NodeGroups& groups,
-                                                          const std::vector<ObjectExtent>& extents,
-                                                          const std::vector<MeshId>& meshes,
-                                                          const UnexplainedPairing& options);
+std::vector<std::vector<RayPair>> collectUnexplainedPairs(
+    const RaycastScene& scene, const RangeMeasurements& m, const TileSet& tiles,
+    const RayHits& hits, const NodeGroups& groups, const std::vector<ObjectExtent>& extents,
+    const std::vector<MeshId>& meshes, const UnexplainedPairing& options);
 
 }  // namespace sgt

@@ -14,7 +14,8 @@ struct OrientedBox {
 };
 
 // An object's box (its mesh's axis-aligned box in the object frame) moved by the object's pose.
-OrientedBox orientedBox(const Eigen::AlignedBox3d& box_object, const Eigen::Isometry3d& T_world_object);
+OrientedBox orientedBox(const Eigen::AlignedBox3d& box_object,
+                        const Eigen::Isometry3d& T_world_object);
 
 // The 8 corners in the world frame; bit i of the corner index set = +half along axis i, else -half.
 std::array<Eigen::Vector3d, 8> corners(const OrientedBox& b);

@@ -39,8 +39,8 @@ struct Entity {
   std::string name;       // track id, or the furniture's name
   NodeId node = kNoNode;  // its instance in the ray-casting scene; kNoNode for furniture
   OrientedBox box;
-  bool movable = true;    // false: furniture, a reference only
-  std::string kind;       // class name of a tracked object ("": unknown, never a duplicate)
+  bool movable = true;  // false: furniture, a reference only
+  std::string kind;     // class name of a tracked object ("": unknown, never a duplicate)
 };
 
 // "subject relation object", e.g. relay_1 in klt_1.
@@ -57,19 +57,21 @@ struct Edge {
 };
 
 struct SceneRelationOptions {
-  RelationOptions box{3.5, 0.02, 0.01};  // factor, on_max_distance, tolerance (tracked poses are noisy)
+  RelationOptions box{3.5, 0.02,
+                      0.01};  // factor, on_max_distance, tolerance (tracked poses are noisy)
   SupportOptions support;
-  double min_support = 0.3;              // share of rays that makes "rests on"
-  bool directional = true;               // compute left_of ... below among tracked objects
+  double min_support = 0.3;  // share of rays that makes "rests on"
+  bool directional = true;   // compute left_of ... below among tracked objects
   Mode directional_mode = Mode::Strict;
-  bool camera_relative = false;          // directions from the camera's point of view
+  bool camera_relative = false;  // directions from the camera's point of view
 };
 
 // The instantaneous relations among `entities`. `scene` (may be null: boxes only) holds the tracked
 // objects' instances; `map_node` is the static map's node there (resting on it = resting on the
 // furniture); `T_world_camera` (optical frame) is needed for camera_relative.
-std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
-                                 const SceneRelationOptions& o = {},
-                                 const std::optional<Eigen::Isometry3d>& T_world_camera = std::nullopt);
+std::vector<Edge> sceneRelations(
+    const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
+    const SceneRelationOptions& o = {},
+    const std::optional<Eigen::Isometry3d>& T_world_camera = std::nullopt);
 
 }  // namespace sgt::relations

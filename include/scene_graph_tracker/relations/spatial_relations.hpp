@@ -12,7 +12,8 @@
 //   left_of / right_of / in_front_of / behind / above / below
 //        strict:  projection(R, side) contains T's box
 //        relaxed: halfspace(R, side) intersects T's box
-//        (side: left_of Left, right_of Right, in_front_of Front, behind Back, above Top, below Bottom)
+//        (side: left_of Left, right_of Right, in_front_of Front, behind Back, above Top, below
+//        Bottom)
 //   on   strict:  projection(R, Top) contains T  AND  distance(T, R) < on_max_distance
 //        relaxed: projection(R, Top) intersects T AND distance(T, R) < on_max_distance
 //   in   strict:  R contains T;  relaxed: R contains or intersects T
@@ -41,15 +42,16 @@ enum class Relation { On, In, LeftOf, RightOf, InFrontOf, Behind, Above, Below }
 enum class Mode { Strict, Relaxed };
 constexpr int kRelationCount = 8;
 
-// "on", "in", "left_of", "right_of", "in_front_of", "behind", "above", "below" (msg/SceneGraphEdge.msg).
+// "on", "in", "left_of", "right_of", "in_front_of", "behind", "above", "below"
+// (msg/SceneGraphEdge.msg).
 const char* relationName(Relation r);
 std::optional<Relation> parseRelation(const std::string& name);
 bool isDirectional(Relation r);  // all but on and in
 
 struct RelationOptions {
-  double factor = 3.5;             // extrusion factor o
-  double on_max_distance = 0.02;   // m, "on": 3D distance between the boxes below this
-  double tolerance = 0.0;          // m, corners may lie this far outside a solid that must contain them
+  double factor = 3.5;            // extrusion factor o
+  double on_max_distance = 0.02;  // m, "on": 3D distance between the boxes below this
+  double tolerance = 0.0;  // m, corners may lie this far outside a solid that must contain them
 };
 
 enum class Side { Front, Back, Left, Right, Top, Bottom };
@@ -62,7 +64,8 @@ enum class Solid { Projection, Halfspace, Box };
 Solid solidOf(Relation r, Mode m);
 
 // Does `target` stand in relation `r` to `reference` (T r R)?
-bool holds(Relation r, Mode m, const OrientedBox& target, const OrientedBox& reference, const RelationOptions& o = {});
+bool holds(Relation r, Mode m, const OrientedBox& target, const OrientedBox& reference,
+           const RelationOptions& o = {});
 
 // The extrusion solids, as oriented boxes in R's orientation.
 OrientedBox projection(const OrientedBox& reference, Side side, const RelationOptions& o = {});

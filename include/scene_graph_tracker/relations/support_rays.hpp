@@ -22,11 +22,12 @@ class RaycastScene;
 namespace sgt::relations {
 
 struct SupportOptions {
-  int grid = 5;             // grid x grid rays over the object's footprint
-  double footprint = 0.8;   // share of the box's x / y extent (own frame) the grid spans; edges overhang
-  double lift = 0.02;       // m, rays start this far above the lowest point (poses sink a little)
-  double max_gap = 0.03;    // m, a hit farther below the lowest point supports nothing
-  int self_skips = 3;       // times a ray may pass through the object's own mesh
+  int grid = 5;  // grid x grid rays over the object's footprint
+  double footprint =
+      0.8;             // share of the box's x / y extent (own frame) the grid spans; edges overhang
+  double lift = 0.02;  // m, rays start this far above the lowest point (poses sink a little)
+  double max_gap = 0.03;  // m, a hit farther below the lowest point supports nothing
+  int self_skips = 3;     // times a ray may pass through the object's own mesh
 };
 
 struct Support {
@@ -39,13 +40,14 @@ struct Support {
 
 // Every node hit by supporting rays, most rays first. `self`: the object's own node in the scene
 // (kNoNode when it has no instance there).
-std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self = kNoNode,
-                                   const SupportOptions& o = {});
+std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
+                                   NodeId self = kNoNode, const SupportOptions& o = {});
 // The same, the rays passing through every node for which `passes_through` holds as through the
 // object's own (and through up to two more such solids): e.g. another track of the same object,
 // or a track that takes no part in relations.
 std::vector<Support> supportsBelow(const RaycastScene& scene, const OrientedBox& object,
-                                   const std::function<bool(NodeId)>& passes_through, const SupportOptions& o = {});
+                                   const std::function<bool(NodeId)>& passes_through,
+                                   const SupportOptions& o = {});
 // The node most rays rest on (node kNoNode, fraction 0 when none).
 Support supportBelow(const RaycastScene& scene, const OrientedBox& object, NodeId self = kNoNode,
                      const SupportOptions& o = {});

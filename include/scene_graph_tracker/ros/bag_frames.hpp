@@ -8,11 +8,10 @@
 
 #include <rosbag/bag.h>
 
-#include <opencv2/core.hpp>
-
+#include <functional>
 #include <map>
 #include <memory>
-#include <functional>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>

@@ -13,7 +13,8 @@ namespace sgt::ros {
 
 // `messages`: a container of message pointers with a header; null when none is within max_offset_s.
 template <typename Container>
-typename Container::value_type closestInTime(const Container& messages, const ::ros::Time& stamp, double max_offset_s) {
+typename Container::value_type closestInTime(const Container& messages, const ::ros::Time& stamp,
+                                             double max_offset_s) {
   typename Container::value_type best;
   double best_offset = max_offset_s;
   for (const auto& m : messages) {

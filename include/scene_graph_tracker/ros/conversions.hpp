@@ -29,7 +29,8 @@ geometry_msgs::Pose toPose(const Eigen::Isometry3d& T);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
 
 // Pinhole model from camera_info (K; distortion is ignored: use rectified images).
-PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min = 0.2f, float range_max = 10.0f);
+PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min = 0.2f,
+                       float range_max = 10.0f);
 sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam);
 
 // Depth image (32FC1 metres or 16UC1 millimetres, 0 = no return) as metres, NaN for no return.
@@ -44,7 +45,8 @@ sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, in
 // rays. An organized cloud of the model's size keeps its order (rows = rings); any other cloud is
 // binned into the model's ring x column grid by each point's elevation and azimuth (the nearest
 // return wins). Throws when x/y/z are missing or not float32.
-std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud, const SpinningLidarModel& model);
+std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                   const SpinningLidarModel& model);
 // Organized rings x columns cloud with fields x, y, z, intensity (float32) and ring (uint16); NaN
 // points where there is no return.
 sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const SensorRays& rays,

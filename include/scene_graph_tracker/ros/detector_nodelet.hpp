@@ -35,12 +35,15 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onInit() override;
 
  private:
-  using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
-  void onImage(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info);
+  using SyncPolicy =
+      message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
+  void onImage(const sensor_msgs::ImageConstPtr& image,
+               const sensor_msgs::CameraInfoConstPtr& info);
   void onDepth(const sensor_msgs::ImageConstPtr& depth);
   // The buffered depth image closest to `stamp` within depth_max_offset_, as range measurements of
   // `camera` (the RGB camera it is registered to); nullptr with a warning when there is none.
-  std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp, const PinholeModel& camera);
+  std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp,
+                                                     const PinholeModel& camera);
   void warn(const std::string& text);
 
   std::unique_ptr<detection::PoseDetector> detector_;

@@ -47,12 +47,13 @@ struct AssembledFrame {
 class FrameAssembler {
  public:
   // T_target_source at a stamp; throws (e.g. tf2::TransformException) when it is not known.
-  using Lookup = std::function<Eigen::Isometry3d(const std::string& target, const std::string& source,
-                                                 const ::ros::Time& stamp)>;
+  using Lookup = std::function<Eigen::Isometry3d(
+      const std::string& target, const std::string& source, const ::ros::Time& stamp)>;
   FrameAssembler(FrameAssemblerOptions options, Lookup lookup);
 
   const FrameAssemblerOptions& options() const { return options_; }
-  Eigen::Isometry3d lookup(const std::string& target, const std::string& source, const ::ros::Time& stamp) const {
+  Eigen::Isometry3d lookup(const std::string& target, const std::string& source,
+                           const ::ros::Time& stamp) const {
     return lookup_(target, source, stamp);
   }
   void addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
@@ -62,7 +63,8 @@ class FrameAssembler {
   AssembledFrame assemble(const sensor_msgs::Image& depth, const sensor_msgs::CameraInfo& info);
 
  private:
-  void addDepth(AssembledFrame& out, const sensor_msgs::Image& depth, const sensor_msgs::CameraInfo& info);
+  void addDepth(AssembledFrame& out, const sensor_msgs::Image& depth,
+                const sensor_msgs::CameraInfo& info);
   void addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth);
   void addScan(AssembledFrame& out, const ::ros::Time& stamp);
 

@@ -18,18 +18,20 @@ namespace sgt::ros {
 // wrong type or is out of range. Returns the names in the namespace that are no parameter of the
 // schema (nor one's dynamic_reconfigure name), for a warning.
 template <class Options>
-std::vector<std::string> readParameters(const ::ros::NodeHandle& pnh, const params::Schema<Options>& schema,
-                                        Options& options);
+std::vector<std::string> readParameters(const ::ros::NodeHandle& pnh,
+                                        const params::Schema<Options>& schema, Options& options);
 
 // Writes the values of the run-time parameters into `config` (a Config message from the generated
 // Config type's __toMessage__, e.g. of its defaults). Throws params::ParameterError when `config`
 // lacks one (cfg/Tracker.cfg out of date).
 template <class Options>
-void toReconfigure(const params::Schema<Options>& schema, const Options& options, dynamic_reconfigure::Config& config);
+void toReconfigure(const params::Schema<Options>& schema, const Options& options,
+                   dynamic_reconfigure::Config& config);
 
 // Sets the run-time parameters from `config` (what the reconfigure callback received, through
 // __toMessage__). Throws params::ParameterError when one is missing or out of range.
 template <class Options>
-void fromReconfigure(const params::Schema<Options>& schema, const dynamic_reconfigure::Config& config, Options& options);
+void fromReconfigure(const params::Schema<Options>& schema,
+                     const dynamic_reconfigure::Config& config, Options& options);
 
 }  // namespace sgt::ros

@@ -15,9 +15,9 @@ namespace sgt::ros {
 // `centres`: box centre in `frame` of every entity that may appear in an edge (tracks and
 // furniture); edges naming an unknown entity are skipped. Markers in namespaces "relations" and
 // "relation_labels", ids from `first_id` on.
-std::vector<visualization_msgs::Marker> relationMarkers(const std::vector<relations::Edge>& edges,
-                                                        const std::map<std::string, Eigen::Vector3d>& centres,
-                                                        const std::string& frame, const ::ros::Time& stamp,
-                                                        int first_id);
+std::vector<visualization_msgs::Marker> relationMarkers(
+    const std::vector<relations::Edge>& edges,
+    const std::map<std::string, Eigen::Vector3d>& centres, const std::string& frame,
+    const ::ros::Time& stamp, int first_id);
 
 }  // namespace sgt::ros

@@ -48,19 +48,27 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onInit() override;
 
  private:
-  using SyncPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
+  using SyncPolicy =
+      message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
 
-  void onDepth(const sensor_msgs::ImageConstPtr& depth, const sensor_msgs::CameraInfoConstPtr& info);
+  void onDepth(const sensor_msgs::ImageConstPtr& depth,
+               const sensor_msgs::CameraInfoConstPtr& info);
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg);
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
-  bool onAddTrack(scene_graph_tracker::AddTrack::Request& req, scene_graph_tracker::AddTrack::Response& res);
-  bool onRemoveTrack(scene_graph_tracker::RemoveTrack::Request& req, scene_graph_tracker::RemoveTrack::Response& res);
+  bool onAddTrack(scene_graph_tracker::AddTrack::Request& req,
+                  scene_graph_tracker::AddTrack::Response& res);
+  bool onRemoveTrack(scene_graph_tracker::RemoveTrack::Request& req,
+                     scene_graph_tracker::RemoveTrack::Response& res);
   void publish(const PipelineResult& r, const ::ros::Time& stamp);
-  scene_graph_tracker::TrackedObject trackedObjectMessage(const TrackedObject& o, const TrackedObject* parent) const;
-  scene_graph_tracker::SceneGraphNode graphNodeMessage(const TrackedObject& o, const TrackedObject* parent) const;
-  visualization_msgs::MarkerArray markers(const PipelineResult& r, const std_msgs::Header& header) const;
-  static sensor_msgs::PointCloud2 unassignedPoints(const PipelineResult& r, const std_msgs::Header& header);
+  scene_graph_tracker::TrackedObject trackedObjectMessage(const TrackedObject& o,
+                                                          const TrackedObject* parent) const;
+  scene_graph_tracker::SceneGraphNode graphNodeMessage(const TrackedObject& o,
+                                                       const TrackedObject* parent) const;
+  visualization_msgs::MarkerArray markers(const PipelineResult& r,
+                                          const std_msgs::Header& header) const;
+  static sensor_msgs::PointCloud2 unassignedPoints(const PipelineResult& r,
+                                                   const std_msgs::Header& header);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
   void warn(const std::string& text);
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);

@@ -6,7 +6,7 @@
 namespace sgt {
 
 using NodeId = std::int32_t;
-constexpr NodeId kNoNode = -1;     // "no node": a ray that hit nothing, an unassigned point
-constexpr NodeId kWorldNode = 0;   // the scene graph's root, the map frame
+constexpr NodeId kNoNode = -1;    // "no node": a ray that hit nothing, an unassigned point
+constexpr NodeId kWorldNode = 0;  // the scene graph's root, the map frame
 
 }  // namespace sgt

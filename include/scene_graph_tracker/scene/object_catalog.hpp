@@ -19,7 +19,7 @@ class CatalogError : public std::runtime_error {
 };
 
 struct ContinuousSymmetry {
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit, object frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // unit, object frame
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // a point on the axis
 };
 
@@ -65,6 +65,7 @@ class ObjectCatalog {
 // `mesh_dir_override`, when not empty, replaces mesh_dir and makes every mesh be looked up by
 // its file name in that directory or its sub-directory named after the class (so a catalog can
 // point at another set of meshes, e.g. ../shared/data/pbr_objects/meshes).
-ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string& mesh_dir_override = "");
+ObjectCatalog loadObjectCatalog(const std::string& yaml_path,
+                                const std::string& mesh_dir_override = "");
 
 }  // namespace sgt

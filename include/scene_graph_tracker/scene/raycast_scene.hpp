@@ -55,11 +55,14 @@ class TileSet {
   static TileSet all(const SensorRays& rays);
   // Tiles over the union of `rects`. With stride s > 1 only every s-th ray in x and y is cast
   // (a tile then spans 4s x 4s grid cells): coarse rounds of refinement need fewer rays.
-  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects, int stride = 1);
+  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects,
+                          int stride = 1);
 
   int stride() const { return stride_; }
   const std::vector<std::int32_t>& tiles() const { return tiles_; }  // tile indices
-  std::size_t rayCount() const { return tiles_.size() * static_cast<std::size_t>(tile_w_ * tile_h_); }
+  std::size_t rayCount() const {
+    return tiles_.size() * static_cast<std::size_t>(tile_w_ * tile_h_);
+  }
   // Calls f(slot, ray_index) for the up to 16 rays of tile `b` (index into tiles()); slot is
   // the ray's lane 0..15 inside the tile.
   template <typename F>
@@ -67,7 +70,8 @@ class TileSet {
   // Calls f(ray_index) for every ray of the covered tiles.
   template <typename F>
   void forEachRay(const SensorRays& rays, F&& f) const {
-    for (std::size_t b = 0; b < tiles_.size(); ++b) forTile(rays, b, [&](int, std::size_t i) { f(i); });
+    for (std::size_t b = 0; b < tiles_.size(); ++b)
+      forTile(rays, b, [&](int, std::size_t i) { f(i); });
   }
 
  private:
@@ -163,7 +167,7 @@ class RaycastScene {
   RTCSceneTy* top_ = nullptr;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
   std::vector<RTCSceneTy*> mesh_scenes_;
-  std::vector<Slot> slots_;          // indexed by Embree geometry id (dense)
+  std::vector<Slot> slots_;  // indexed by Embree geometry id (dense)
   std::vector<unsigned> free_slots_;
   std::unordered_map<NodeId, unsigned> slot_of_node_;
   NodeId static_map_node_ = kNoNode;

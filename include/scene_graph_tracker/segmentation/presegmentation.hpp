@@ -4,9 +4,10 @@
 // points to 3,515, -86 %).
 //
 // Each measurement's ray is cast in full into the scene at the current estimates and its range r
-// compared with the predicted range p: |r - p| <= tolerance(p) (from the sensor's noise) -> the hit's owner (map or object);
-// r < p - tolerance -> unknown (something stands in front of what the tracker knows); r > p +
-// tolerance -> behind (the map changed, e.g. a door was opened); no predicted hit -> unknown.
+// compared with the predicted range p: |r - p| <= tolerance(p) (from the sensor's noise) -> the
+// hit's owner (map or object); r < p - tolerance -> unknown (something stands in front of what the
+// tracker knows); r > p + tolerance -> behind (the map changed, e.g. a door was opened); no
+// predicted hit -> unknown.
 #pragma once
 
 #include <vector>
@@ -39,13 +40,15 @@ struct LabelCounts {
 
 struct Presegmentation {
   std::vector<PointLabel> label;  // per ray
-  std::vector<NodeId> node;       // per ray: the object or map node for kObject / kStaticMap, else kNoNode
+  std::vector<NodeId>
+      node;  // per ray: the object or map node for kObject / kStaticMap, else kNoNode
   std::vector<Eigen::Vector3f> unknown_points;  // world frame
   std::vector<std::uint32_t> unknown_rays;      // ray index of each unknown point
   LabelCounts counts;
 };
 
 // Hits of the scene's static map node count as map, hits of any other instance as object.
-Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m, const PresegmentOptions& options = {});
+Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m,
+                           const PresegmentOptions& options = {});
 
 }  // namespace sgt

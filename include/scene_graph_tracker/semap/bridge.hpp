@@ -25,8 +25,8 @@
 #include <memory>
 #include <mutex>
 
-#include "scene_graph_tracker/semap/writer.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/semap/writer.hpp"
 
 namespace sgt::ros {
 
@@ -53,11 +53,14 @@ class SemapBridge {
   bool answer(Response& res, F f);
   bool onQueryRelations(scene_graph_tracker::QueryRelations::Request& req,
                         scene_graph_tracker::QueryRelations::Response& res);
-  bool onObjectsOn(scene_graph_tracker::ObjectsOn::Request& req, scene_graph_tracker::ObjectsOn::Response& res);
-  bool onObjectsIn(scene_graph_tracker::ObjectsIn::Request& req, scene_graph_tracker::ObjectsIn::Response& res);
+  bool onObjectsOn(scene_graph_tracker::ObjectsOn::Request& req,
+                   scene_graph_tracker::ObjectsOn::Response& res);
+  bool onObjectsIn(scene_graph_tracker::ObjectsIn::Request& req,
+                   scene_graph_tracker::ObjectsIn::Response& res);
   bool onDirectional(scene_graph_tracker::DirectionalRelations::Request& req,
                      scene_graph_tracker::DirectionalRelations::Response& res);
-  bool onWhereWas(scene_graph_tracker::WhereWas::Request& req, scene_graph_tracker::WhereWas::Response& res);
+  bool onWhereWas(scene_graph_tracker::WhereWas::Request& req,
+                  scene_graph_tracker::WhereWas::Response& res);
   bool onRelationSince(scene_graph_tracker::RelationSince::Request& req,
                        scene_graph_tracker::RelationSince::Response& res);
 

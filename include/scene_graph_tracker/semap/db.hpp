@@ -22,7 +22,8 @@ struct DbSettings {
   std::string dbname = "semap";
   int connect_timeout_s = 2;
   double statement_timeout_s = 10.0;  // any one SQL statement; 0: none
-  std::string sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the source tree's sql/
+  std::string
+      sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the source tree's sql/
   double factor = 3.5;  // relation parameters, as sgt::relations::RelationOptions
   double on_max_distance = 0.02;
   double tolerance = 0.0;  // m, containment: corners may lie this far outside
@@ -33,7 +34,8 @@ struct DbSettings {
 struct ClassShape {
   std::string name;
   Eigen::AlignedBox3d box;
-  std::vector<Eigen::Vector3d> hull_points;  // object frame; the stored hull is their 3D convex hull
+  std::vector<Eigen::Vector3d>
+      hull_points;  // object frame; the stored hull is their 3D convex hull
 };
 
 struct InstancePose {
@@ -88,10 +90,11 @@ class SemapDb {
                                      const std::string& object, const std::string& mode);
   std::vector<std::string> objectsOn(const std::string& reference, const std::string& mode);
   std::vector<std::string> objectsIn(const std::string& reference, const std::string& mode);
-  std::vector<std::string> directionalRelations(const std::string& a, const std::string& b, const std::string& mode);
+  std::vector<std::string> directionalRelations(const std::string& a, const std::string& b,
+                                                const std::string& mode);
   std::optional<PoseAt> whereWas(const std::string& id, double stamp);
-  SinceAnswer relationSince(const std::string& subject, const std::string& relation, const std::string& object,
-                            const std::string& mode);
+  SinceAnswer relationSince(const std::string& subject, const std::string& relation,
+                            const std::string& object, const std::string& mode);
   // Any SQL (tests, tools).
   std::vector<std::vector<std::string>> query(const std::string& sql);
 

@@ -21,7 +21,7 @@ struct WriterOptions {
   std::size_t queue_size = 2000;  // frames
   double backoff_min_s = 0.1;     // first reconnection delay, doubled up to backoff_max_s
   double backoff_max_s = 2.0;
-  double flush_timeout_s = 3.0;   // on destruction: how long to keep writing the backlog
+  double flush_timeout_s = 3.0;  // on destruction: how long to keep writing the backlog
 };
 
 struct WriterStats {

@@ -32,7 +32,8 @@ struct RangeMeasurements {
 // From a depth image (z along the optical axis, metres, row-major, NaN/0 for no return).
 // Throws std::invalid_argument when the image size does not match the model.
 RangeMeasurements fromDepthImage(const PinholeModel& model, std::shared_ptr<const SensorRays> rays,
-                                 const std::vector<float>& depth_m, const Eigen::Isometry3d& T_world_sensor,
+                                 const std::vector<float>& depth_m,
+                                 const Eigen::Isometry3d& T_world_sensor,
                                  const std::string& sensor = "camera");
 
 // From ranges ordered like the model's rays (LiDAR scan as a range image).

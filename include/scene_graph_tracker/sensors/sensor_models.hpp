@@ -26,7 +26,8 @@ struct PinholeModel {
   float range_max = 10.0f;
 
   Eigen::Vector3f direction(int u, int v) const {  // unit
-    return Eigen::Vector3f(static_cast<float>((u - cx) / fx), static_cast<float>((v - cy) / fy), 1.0f)
+    return Eigen::Vector3f(static_cast<float>((u - cx) / fx), static_cast<float>((v - cy) / fy),
+                           1.0f)
         .normalized();
   }
   // Pixel of a point in the optical frame; nullopt behind the camera.
@@ -82,8 +83,9 @@ SensorRays makeRays(const PinholeModel& model);
 SensorRays makeRays(const SpinningLidarModel& model);
 
 // An arbitrary ray set (normalises the directions); a single row.
-SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::Vector3f> origins = {},
-                    float range_min = 0.0f, float range_max = std::numeric_limits<float>::infinity());
+SensorRays makeRays(std::vector<Eigen::Vector3f> directions,
+                    std::vector<Eigen::Vector3f> origins = {}, float range_min = 0.0f,
+                    float range_max = std::numeric_limits<float>::infinity());
 
 // The rays of the last pinhole model asked for, rebuilt only when its size or intrinsics change
 // (a node gets the same camera_info at 30 Hz; rebuilding 300k rays for each frame is wasted work).

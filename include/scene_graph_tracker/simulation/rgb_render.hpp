@@ -12,28 +12,31 @@
 namespace sgt::sim {
 
 struct RenderStyle {
-  Eigen::Vector3f light_direction = Eigen::Vector3f(0.3f, 0.2f, 1.0f).normalized();  // towards the light, world
+  Eigen::Vector3f light_direction =
+      Eigen::Vector3f(0.3f, 0.2f, 1.0f).normalized();  // towards the light, world
   float ambient = 0.35f;
-  float diffuse = 0.45f;    // light from above
-  float headlight = 0.25f;  // light from the camera
+  float diffuse = 0.45f;                                              // light from above
+  float headlight = 0.25f;                                            // light from the camera
   Eigen::Vector3f background = Eigen::Vector3f(0.05f, 0.05f, 0.08f);  // rays that hit nothing
-  float floor_tile = 0.5f;  // edge length of the floor's checker tiles (m)
+  float floor_tile = 0.5f;   // edge length of the floor's checker tiles (m)
   float wall_height = 3.0f;  // surfaces facing down near it are ceiling
 };
 
 struct NodeColours {
   std::unordered_map<NodeId, Eigen::Vector3f> albedo;  // RGB 0..1 per node
-  NodeId static_map = kNoNode;                          // coloured by staticMapColour
+  NodeId static_map = kNoNode;                         // coloured by staticMapColour
 };
 
 // Albedo of the static map at a world point with a unit world normal.
-Eigen::Vector3f staticMapColour(const Eigen::Vector3f& p_world, const Eigen::Vector3f& n_world, const RenderStyle& style);
+Eigen::Vector3f staticMapColour(const Eigen::Vector3f& p_world, const Eigen::Vector3f& n_world,
+                                const RenderStyle& style);
 
 // Default albedo of a catalog class (a fixed colour for the paper's five, a hashed one otherwise).
 Eigen::Vector3f classColour(const std::string& class_name);
 
 // rgb8 image (width x height x 3, row-major) of a simulated pinhole scan from T_world_sensor.
-std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan, const Eigen::Isometry3d& T_world_sensor,
+std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan,
+                                    const Eigen::Isometry3d& T_world_sensor,
                                     const NodeColours& colours, const RenderStyle& style = {});
 
 }  // namespace sgt::sim

@@ -63,8 +63,8 @@ struct InsideAnnotation {
 
 struct ObjectSpec {
   std::string id;
-  std::string class_name;      // a class of the catalog
-  PoseTrajectory trajectory;   // T_map_object
+  std::string class_name;     // a class of the catalog
+  PoseTrajectory trajectory;  // T_map_object
   std::optional<InsideAnnotation> inside;
   std::optional<Eigen::Vector3f> color;  // RGB 0..1; per-class default when absent
 };
@@ -76,9 +76,9 @@ struct DistractorSpec {
   std::string id;
   Shape shape = Shape::Box;
   Eigen::Vector3f size = Eigen::Vector3f::Constant(0.1f);  // box: edge lengths
-  float radius = 0.05f;                                     // cylinder, sphere
-  float height = 0.1f;                                      // cylinder (along its z)
-  PoseTrajectory trajectory;                                // T_map_distractor
+  float radius = 0.05f;                                    // cylinder, sphere
+  float height = 0.1f;                                     // cylinder (along its z)
+  PoseTrajectory trajectory;                               // T_map_distractor
   Eigen::Vector3f color = Eigen::Vector3f(0.55f, 0.55f, 0.55f);
 };
 
@@ -86,7 +86,7 @@ struct DistractorSpec {
 struct RelationSpec {
   std::string subject;  // an object id
   relations::Relation relation = relations::Relation::On;
-  std::string object;   // another object id, or kWorkbenchName when the scenario has a workbench
+  std::string object;  // another object id, or kWorkbenchName when the scenario has a workbench
   double from = 0.0;
   double to = std::numeric_limits<double>::infinity();
   bool activeAt(double t) const { return t >= from && t < to; }
@@ -112,13 +112,16 @@ struct LidarSpec {
 };
 
 struct NoiseSpec {
-  double depth_sigma_at_1m = 0.0015;   // depth sigma = this * z^2 (m)
-  double depth_edge_jump = 0.04;       // m; a pixel whose 4-neighbour differs more loses its depth (0: off)
-  double depth_max_incidence_deg = 75;  // a ray hitting a surface more obliquely gets no depth (>= 90: off)
-  double lidar_range_sigma = 0.008;    // m
+  double depth_sigma_at_1m = 0.0015;  // depth sigma = this * z^2 (m)
+  double depth_edge_jump =
+      0.04;  // m; a pixel whose 4-neighbour differs more loses its depth (0: off)
+  double depth_max_incidence_deg =
+      75;  // a ray hitting a surface more obliquely gets no depth (>= 90: off)
+  double lidar_range_sigma = 0.008;      // m
   double odom_translation_sigma = 0.02;  // m per sqrt(m driven), each of x and y
   double odom_rotation_sigma = 0.01;     // rad per sqrt(m driven + rad turned)
-  Eigen::Vector3d odom_initial_error = Eigen::Vector3d::Zero();  // dx, dy (m), dyaw (rad) of map->odom
+  Eigen::Vector3d odom_initial_error =
+      Eigen::Vector3d::Zero();  // dx, dy (m), dyaw (rad) of map->odom
 };
 
 struct DetectionSpec {
@@ -146,7 +149,8 @@ struct Scenario {
 
   std::vector<ObjectSpec> objects;
   std::vector<DistractorSpec> distractors;
-  std::vector<RelationSpec> relations;  // the `relations:` list, then the objects' `inside` annotations
+  std::vector<RelationSpec>
+      relations;         // the `relations:` list, then the objects' `inside` annotations
   PoseTrajectory robot;  // T_map_base (planar: z = 0, yaw only)
   CameraSpec camera;
   LidarSpec lidar;

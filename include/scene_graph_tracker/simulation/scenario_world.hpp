@@ -32,7 +32,7 @@ struct CameraFrame {
   std::vector<std::uint8_t> rgb;               // rgb8, width x height x 3
   std::vector<float> depth;                    // z in metres, NaN = no return (noisy)
   std::vector<std::uint8_t> labels;            // Label per pixel; kLabelNoReturn where depth is NaN
-  std::vector<NodeId> node;                    // hit node per pixel where depth is valid, else kNoNode
+  std::vector<NodeId> node;  // hit node per pixel where depth is valid, else kNoNode
   std::vector<Eigen::Isometry3d> T_map_objects;  // per scenario object
   std::vector<int> visible_pixels;               // per scenario object: valid depth pixels on it
 };
@@ -63,7 +63,9 @@ class ScenarioWorld {
   const SensorRays& cameraRays() const { return *camera_rays_; }
   const SensorRays& lidarRays() const { return *lidar_rays_; }
   NodeId objectNode(std::size_t i) const { return static_cast<NodeId>(kFirstObjectNode + i); }
-  NodeId distractorNode(std::size_t i) const { return static_cast<NodeId>(kFirstDistractorNode + i); }
+  NodeId distractorNode(std::size_t i) const {
+    return static_cast<NodeId>(kFirstDistractorNode + i);
+  }
   static constexpr NodeId kStaticMapNode = 1;
   static constexpr NodeId kFirstObjectNode = 100;
   static constexpr NodeId kFirstDistractorNode = 100000;

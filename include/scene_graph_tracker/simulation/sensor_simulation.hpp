@@ -16,7 +16,8 @@ struct SimulatedScan {
   std::vector<NodeId> node;              // kNoNode where nothing was hit
 };
 
-SimulatedScan simulate(const RaycastScene& scene, const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor);
+SimulatedScan simulate(const RaycastScene& scene, const SensorRays& rays,
+                       const Eigen::Isometry3d& T_world_sensor);
 
 // Depth image (z along the optical axis, metres, row-major; NaN where nothing was hit) of a
 // pinhole simulation.

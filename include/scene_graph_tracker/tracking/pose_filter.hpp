@@ -16,8 +16,8 @@ struct PoseFilterNoise {
   double initial_velocity = 0.2, initial_angular_velocity = 0.5;  // 1 sigma of the unknown start
   // While a track coasts (no measurement), its velocities decay with this time constant: an
   // object put down stops; carrying on at the last velocity would fly it away in a second. Short,
-  // because a far object's velocity is mostly refinement jitter: with 0.3 s the screwdriver that
-  // the material box hides in the demo sank 6 cm into the bench before it stopped.
+  // because a far object's velocity is mostly refinement jitter, which a longer decay carries a
+  // hidden object away on.
   double coast_decay_s = 0.05;
 };
 
@@ -26,7 +26,8 @@ class PoseFilter {
   using Mat12 = Eigen::Matrix<double, 12, 12>;
   using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-  PoseFilter(const Eigen::Isometry3d& T, const Mat6& pose_covariance, const PoseFilterNoise& noise = {});
+  PoseFilter(const Eigen::Isometry3d& T, const Mat6& pose_covariance,
+             const PoseFilterNoise& noise = {});
 
   void predict(double dt);
   // Lets the velocities decay over `dt` (see PoseFilterNoise::coast_decay_s); for coasting.
@@ -35,9 +36,11 @@ class PoseFilter {
   // symmetry, the symmetric twin of the measurement closest to the prediction is used, so a
   // crate seen turned by 180 deg does not spin the filter. Returns the squared Mahalanobis
   // distance of the innovation.
-  double update(const Eigen::Isometry3d& T_measured, const Mat6& covariance, const Symmetry* symmetry = nullptr);
+  double update(const Eigen::Isometry3d& T_measured, const Mat6& covariance,
+                const Symmetry* symmetry = nullptr);
   // Squared Mahalanobis distance of a pose from the prediction, without updating.
-  double distance2(const Eigen::Isometry3d& T, const Mat6& covariance, const Symmetry* symmetry = nullptr) const;
+  double distance2(const Eigen::Isometry3d& T, const Mat6& covariance,
+                   const Symmetry* symmetry = nullptr) const;
 
   Eigen::Isometry3d pose() const;
   const Eigen::Vector3d& velocity() const { return v_; }
@@ -46,7 +49,8 @@ class PoseFilter {
   Mat6 poseCovariance() const;
 
  private:
-  Eigen::Matrix<double, 6, 1> innovation(const Eigen::Isometry3d& T_measured, const Symmetry* symmetry) const;
+  Eigen::Matrix<double, 6, 1> innovation(const Eigen::Isometry3d& T_measured,
+                                         const Symmetry* symmetry) const;
 
   Eigen::Vector3d p_, v_ = Eigen::Vector3d::Zero(), w_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_;

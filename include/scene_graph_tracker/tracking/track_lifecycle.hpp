@@ -35,7 +35,7 @@ struct LifecycleOptions {
   double lost_track_resume_inlier_ratio;
   double research_below_fit_support;
   double orientation_search_interval_s;
-  int min_points;            // the refiner's alignment.min_points: a fit needs this many
+  int min_points;           // the refiner's alignment.min_points: a fit needs this many
   double min_inlier_ratio;  // the refiner's: below it a fit explains nothing there
 };
 
@@ -70,7 +70,7 @@ enum class FitUse {
 };
 
 struct Transition {
-  TrackLife life;                   // after this frame
+  TrackLife life;  // after this frame
   FitUse fit_use = FitUse::kCoast;
   bool search_orientation = false;  // queue an orientation search for it
   bool remove = false;
@@ -81,7 +81,8 @@ struct Transition {
 // next frame refines from there, and no detection resets it. It counts neither as a hit nor
 // towards fit support.
 struct WeakFitPlacement {
-  static bool places(TrackState state, bool child, const ObjectQuality& fit, const LifecycleOptions& o);
+  static bool places(TrackState state, bool child, const ObjectQuality& fit,
+                     const LifecycleOptions& o);
 };
 
 // A lost track stays where it was lost unless a detection restarts it or it is seen whole again:
@@ -150,7 +151,8 @@ struct DetectionAssociation {
 // confirm_inlier_ratio of its rays. A track lying in the map does not compete.
 struct RestartContest {
   static bool competes(bool track_sunk_in_map) { return !track_sunk_in_map; }
-  static bool detectionWins(std::size_t winner, double winner_inlier_ratio, const LifecycleOptions& o);
+  static bool detectionWins(std::size_t winner, double winner_inlier_ratio,
+                            const LifecycleOptions& o);
 };
 
 // Which tracks explain measurements in pre-segmentation: neither tentative ones (a false detection

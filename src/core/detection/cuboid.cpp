@@ -11,15 +11,16 @@ std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(const Eigen::Align
   for (int face = 0; face < 2; ++face) {
     const double z = face == 0 ? hi.z() : lo.z();
     for (int c = 0; c < 4; ++c) {
-      k[face * 4 + c] = Eigen::Vector3d(kX[c] > 0 ? hi.x() : lo.x(), kY[c] > 0 ? hi.y() : lo.y(), z);
+      k[face * 4 + c] =
+          Eigen::Vector3d(kX[c] > 0 ? hi.x() : lo.x(), kY[c] > 0 ? hi.y() : lo.y(), z);
     }
   }
   k[8] = box.center();
   return k;
 }
 
-std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(const Eigen::AlignedBox3d& box_model,
-                                                              const Eigen::Isometry3d& T_model_object) {
+std::array<Eigen::Vector3d, kCuboidKeypoints> cuboidKeypoints(
+    const Eigen::AlignedBox3d& box_model, const Eigen::Isometry3d& T_model_object) {
   auto k = cuboidKeypoints(box_model);
   const Eigen::Isometry3d T_object_model = T_model_object.inverse();
   for (auto& p : k) p = T_object_model * p;

@@ -8,11 +8,16 @@ namespace sgt::detection {
 
 const char* pnpStatusName(PnpStatus s) {
   switch (s) {
-    case PnpStatus::Ok: return "ok";
-    case PnpStatus::TooFewPoints: return "too few points";
-    case PnpStatus::SolverFailed: return "solver failed";
-    case PnpStatus::BehindCamera: return "behind the camera";
-    case PnpStatus::LargeReprojection: return "large reprojection error";
+    case PnpStatus::Ok:
+      return "ok";
+    case PnpStatus::TooFewPoints:
+      return "too few points";
+    case PnpStatus::SolverFailed:
+      return "solver failed";
+    case PnpStatus::BehindCamera:
+      return "behind the camera";
+    case PnpStatus::LargeReprojection:
+      return "large reprojection error";
   }
   return "?";
 }
@@ -24,7 +29,8 @@ struct Correspondences {
   std::vector<cv::Point2d> image;
 };
 
-double reprojectionRms(const Correspondences& c, const cv::Mat& rvec, const cv::Mat& tvec, const cv::Mat& K) {
+double reprojectionRms(const Correspondences& c, const cv::Mat& rvec, const cv::Mat& tvec,
+                       const cv::Mat& K) {
   std::vector<cv::Point2d> projected;
   cv::projectPoints(c.object, rvec, tvec, K, cv::noArray(), projected);
   double sum = 0.0;
@@ -48,7 +54,8 @@ bool solveFewPoints(const Correspondences& c, const cv::Mat& K, cv::Mat& rvec, c
     }
     cv::Mat r, t;
     try {
-      if (!cv::solvePnP(sub.object, sub.image, K, cv::noArray(), r, t, false, cv::SOLVEPNP_AP3P)) continue;
+      if (!cv::solvePnP(sub.object, sub.image, K, cv::noArray(), r, t, false, cv::SOLVEPNP_AP3P))
+        continue;
     } catch (const cv::Exception&) {
       continue;
     }
@@ -67,26 +74,32 @@ bool solveFewPoints(const Correspondences& c, const cv::Mat& K, cv::Mat& rvec, c
 }  // namespace
 
 PnpResult solveCuboidPnp(const std::vector<Keypoint>& keypoints,
-                         const std::array<Eigen::Vector3d, kCuboidKeypoints>& object_points, const PinholeModel& camera,
-                         const PnpOptions& options) {
+                         const std::array<Eigen::Vector3d, kCuboidKeypoints>& object_points,
+                         const PinholeModel& camera, const PnpOptions& options) {
   PnpResult result;
   Correspondences c;
   for (std::size_t k = 0; k < keypoints.size() && k < object_points.size(); ++k) {
     const Keypoint& kp = keypoints[k];
     if (!(kp.visibility >= options.min_visibility) || !kp.px.allFinite()) continue;
-    if (kp.px.x() < 0 || kp.px.y() < 0 || kp.px.x() > camera.width - 1 || kp.px.y() > camera.height - 1) continue;
+    if (kp.px.x() < 0 || kp.px.y() < 0 || kp.px.x() > camera.width - 1 ||
+        kp.px.y() > camera.height - 1)
+      continue;
     c.object.emplace_back(object_points[k].x(), object_points[k].y(), object_points[k].z());
     c.image.emplace_back(kp.px.x(), kp.px.y());
   }
   result.points_used = static_cast<int>(c.object.size());
   if (c.object.size() < 4) return result;  // TooFewPoints
-  const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  const cv::Mat K =
+      (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   cv::Mat rvec, tvec;
   bool solved = false;
   try {
     if (c.object.size() >= 6) {
-      solved = cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP);
-      if (solved) solved = cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
+      solved =
+          cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP);
+      if (solved)
+        solved = cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, true,
+                              cv::SOLVEPNP_ITERATIVE);
     } else {
       solved = solveFewPoints(c, K, rvec, tvec);
     }

@@ -7,11 +7,14 @@
 
 namespace sgt::detection {
 
-std::optional<Eigen::Isometry3d> depthCorrectedPose(const Detection& detection, const Eigen::Isometry3d& T_camera_object,
-                                                    const Eigen::AlignedBox3d& box, const RangeMeasurements& depth,
+std::optional<Eigen::Isometry3d> depthCorrectedPose(const Detection& detection,
+                                                    const Eigen::Isometry3d& T_camera_object,
+                                                    const Eigen::AlignedBox3d& box,
+                                                    const RangeMeasurements& depth,
                                                     const DepthTranslationOptions& options) {
   const auto* cam = std::get_if<PinholeModel>(&depth.model);
-  if (!cam || !depth.rays || depth.rays->width != cam->width || depth.rays->height != cam->height) return std::nullopt;
+  if (!cam || !depth.rays || depth.rays->width != cam->width || depth.rays->height != cam->height)
+    return std::nullopt;
   const Eigen::Vector2d centre = 0.5 * (detection.box_min + detection.box_max);
   const Eigen::Vector2d half = 0.5 * options.box_fraction * (detection.box_max - detection.box_min);
   const int u0 = std::max(0, static_cast<int>(std::ceil(centre.x() - half.x())));
@@ -28,7 +31,8 @@ std::optional<Eigen::Isometry3d> depthCorrectedPose(const Detection& detection, 
   std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
   const double surface = ranges[ranges.size() / 2];
   const Eigen::Vector3d ray =
-      Eigen::Vector3d((centre.x() - cam->cx) / cam->fx, (centre.y() - cam->cy) / cam->fy, 1.0).normalized();
+      Eigen::Vector3d((centre.x() - cam->cx) / cam->fx, (centre.y() - cam->cy) / cam->fy, 1.0)
+          .normalized();
   // From the box centre back along the ray to where the ray enters the turned box (slab test):
   // the surface the central pixels see.
   const Eigen::Vector3d in_object = (T_camera_object.linear().transpose() * ray).cwiseAbs();

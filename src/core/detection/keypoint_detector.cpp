@@ -26,7 +26,8 @@ ModelInfo loadModelInfo(const std::string& yaml_path) {
   ModelInfo info;
   try {
     const fs::path yaml(yaml_path);
-    const fs::path onnx = y["model"] ? fs::path(y["model"].as<std::string>()) : yaml.filename().replace_extension(".onnx");
+    const fs::path onnx = y["model"] ? fs::path(y["model"].as<std::string>())
+                                     : yaml.filename().replace_extension(".onnx");
     info.onnx_path = (onnx.is_absolute() ? onnx : yaml.parent_path() / onnx).string();
     info.input_width = need("input_width").as<int>();
     info.input_height = need("input_height").as<int>();
@@ -36,15 +37,18 @@ ModelInfo loadModelInfo(const std::string& yaml_path) {
     if (y["letterbox_pad"]) info.letterbox_pad = y["letterbox_pad"].as<int>();
     if (y["scale"]) info.scale = y["scale"].as<double>();
     if (y["swap_rb"]) info.swap_rb = y["swap_rb"].as<bool>();
-    if (y["score_thresholds"]) info.score_thresholds = y["score_thresholds"].as<std::map<std::string, float>>();
+    if (y["score_thresholds"])
+      info.score_thresholds = y["score_thresholds"].as<std::map<std::string, float>>();
   } catch (const YAML::Exception& e) {
     throw DetectorError("model metadata " + yaml_path + ": " + e.what());
   }
   if (info.input_width <= 0 || info.input_height <= 0 || info.names.empty() || info.keypoints < 0)
-    throw DetectorError("model metadata " + yaml_path + ": input size, names and keypoints must be positive");
+    throw DetectorError("model metadata " + yaml_path +
+                        ": input size, names and keypoints must be positive");
   for (const auto& [name, t] : info.score_thresholds)
     if (std::find(info.names.begin(), info.names.end(), name) == info.names.end())
-      throw DetectorError("model metadata " + yaml_path + ": score_thresholds names '" + name + "', not one of its classes");
+      throw DetectorError("model metadata " + yaml_path + ": score_thresholds names '" + name +
+                          "', not one of its classes");
   return info;
 }
 
@@ -53,7 +57,8 @@ Letterbox letterboxGeometry(int image_width, int image_height, int input_width, 
   Letterbox lb;
   lb.input_width = input_width;
   lb.input_height = input_height;
-  lb.scale = std::min(static_cast<double>(input_width) / image_width, static_cast<double>(input_height) / image_height);
+  lb.scale = std::min(static_cast<double>(input_width) / image_width,
+                      static_cast<double>(input_height) / image_height);
   // Whole-pixel padding, the image centred (the odd pixel goes right / down).
   lb.pad_x = std::floor(0.5 * (input_width - std::round(image_width * lb.scale)));
   lb.pad_y = std::floor(0.5 * (input_height - std::round(image_height * lb.scale)));
@@ -67,7 +72,8 @@ cv::Mat letterbox(const cv::Mat& image, const Letterbox& lb, int pad_value) {
   if (w == image.cols && h == image.rows) {
     resized = image;
   } else {
-    cv::resize(image, resized, cv::Size(w, h), 0, 0, lb.scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
+    cv::resize(image, resized, cv::Size(w, h), 0, 0,
+               lb.scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   }
   cv::Mat out(lb.input_height, lb.input_width, image.type(), cv::Scalar::all(pad_value));
   resized.copyTo(out(cv::Rect(static_cast<int>(lb.pad_x), static_cast<int>(lb.pad_y), w, h)));
@@ -109,24 +115,27 @@ Eigen::Vector2d toPixel(const Letterbox& lb, const Eigen::Vector2d& input) {
 
 }  // namespace
 
-std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info, const Letterbox& lb,
-                                      const DecodeOptions& options) {
+std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info,
+                                      const Letterbox& lb, const DecodeOptions& options) {
   if (output.dims != 3 || output.size[0] != 1 || output.type() != CV_32F) {
     std::string dims;
     for (int i = 0; i < output.dims; ++i) dims += (i ? " x " : "") + std::to_string(output.size[i]);
-    throw DetectorError("model output must be a float tensor 1 x C x N (YOLOv8-pose layout), got " + dims);
+    throw DetectorError("model output must be a float tensor 1 x C x N (YOLOv8-pose layout), got " +
+                        dims);
   }
   const int channels = output.size[1], anchors = output.size[2];
   const int nc = static_cast<int>(info.names.size());
   if (channels != info.channels())
-    throw DetectorError("model output has " + std::to_string(channels) + " channels per anchor, its metadata expects 4 + " +
-                        std::to_string(nc) + " classes + " + std::to_string(info.keypoints) + " keypoints x 3 = " +
-                        std::to_string(info.channels()));
+    throw DetectorError("model output has " + std::to_string(channels) +
+                        " channels per anchor, its metadata expects 4 + " + std::to_string(nc) +
+                        " classes + " + std::to_string(info.keypoints) +
+                        " keypoints x 3 = " + std::to_string(info.channels()));
   const float* data = output.ptr<float>();
   const auto at = [&](int c, int a) { return data[static_cast<std::size_t>(c) * anchors + a]; };
   std::vector<float> threshold(nc, options.score_threshold);
   for (int c = 0; c < nc; ++c)
-    if (const auto it = info.score_thresholds.find(info.names[c]); it != info.score_thresholds.end())
+    if (const auto it = info.score_thresholds.find(info.names[c]);
+        it != info.score_thresholds.end())
       threshold[c] = std::max(threshold[c], it->second);
   std::vector<Detection> candidates;
   for (int a = 0; a < anchors; ++a) {
@@ -168,8 +177,10 @@ KeypointDetector::KeypointDetector(const std::string& metadata_yaml, DecodeOptio
   net_->net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_->net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   // One pass on a blank image checks the output layout against the metadata now, not mid-run.
-  const cv::Mat blank(info_.input_height, info_.input_width, CV_8UC3, cv::Scalar::all(info_.letterbox_pad));
-  decodeYoloPose(forward(blank, letterboxGeometry(blank.cols, blank.rows, info_.input_width, info_.input_height)),
+  const cv::Mat blank(info_.input_height, info_.input_width, CV_8UC3,
+                      cv::Scalar::all(info_.letterbox_pad));
+  decodeYoloPose(forward(blank, letterboxGeometry(blank.cols, blank.rows, info_.input_width,
+                                                  info_.input_height)),
                  info_, Letterbox{}, options_);
 }
 
@@ -177,14 +188,16 @@ KeypointDetector::~KeypointDetector() = default;
 
 cv::Mat KeypointDetector::forward(const cv::Mat& rgb, const Letterbox& lb) {
   const cv::Mat input = letterbox(rgb, lb, info_.letterbox_pad);
-  net_->net.setInput(cv::dnn::blobFromImage(input, info_.scale, cv::Size(), cv::Scalar(), info_.swap_rb, false, CV_32F));
+  net_->net.setInput(cv::dnn::blobFromImage(input, info_.scale, cv::Size(), cv::Scalar(),
+                                            info_.swap_rb, false, CV_32F));
   return net_->net.forward();
 }
 
 std::vector<Detection> KeypointDetector::detect(const cv::Mat& rgb) {
   if (rgb.empty()) throw DetectorError("detect: empty image");
   if (rgb.type() != CV_8UC3)
-    throw DetectorError("detect: expected an 8-bit 3-channel RGB image, got OpenCV type " + std::to_string(rgb.type()));
+    throw DetectorError("detect: expected an 8-bit 3-channel RGB image, got OpenCV type " +
+                        std::to_string(rgb.type()));
   const Letterbox lb = letterboxGeometry(rgb.cols, rgb.rows, info_.input_width, info_.input_height);
   return decodeYoloPose(forward(rgb, lb), info_, lb, options_);
 }

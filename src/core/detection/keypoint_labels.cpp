@@ -7,7 +7,8 @@ Eigen::Matrix3d canonicalLabelRotation() { return Eigen::Vector3d(1.0, -1.0, -1.
 namespace {
 
 // Among T * S * B the one whose rotation is closest to the canonical one (the first on ties).
-Eigen::Isometry3d closestToCanonical(const Eigen::Isometry3d& T_camera_object, const std::vector<Eigen::Isometry3d>& symmetries,
+Eigen::Isometry3d closestToCanonical(const Eigen::Isometry3d& T_camera_object,
+                                     const std::vector<Eigen::Isometry3d>& symmetries,
                                      const std::vector<Eigen::Isometry3d>& turns) {
   // The geodesic angle falls as trace(Rc^T R) grows.
   const Eigen::Matrix3d Rc_t = canonicalLabelRotation().transpose();
@@ -24,23 +25,26 @@ Eigen::Isometry3d closestToCanonical(const Eigen::Isometry3d& T_camera_object, c
 
 }  // namespace
 
-Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
-                                         double continuous_step_rad) {
+Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_object,
+                                         const Symmetry& symmetry, double continuous_step_rad) {
   if (!symmetry.any()) return T_camera_object;
-  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad), {Eigen::Isometry3d::Identity()});
+  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad),
+                            {Eigen::Isometry3d::Identity()});
 }
 
 std::array<Eigen::Isometry3d, 4> boxHalfTurns() {
   std::array<Eigen::Isometry3d, 4> out;
   out.fill(Eigen::Isometry3d::Identity());
-  for (int a = 0; a < 3; ++a) out[a + 1].linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(a)).toRotationMatrix();
+  for (int a = 0; a < 3; ++a)
+    out[a + 1].linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(a)).toRotationMatrix();
   return out;
 }
 
-Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object, const Symmetry& symmetry,
-                                      double continuous_step_rad) {
+Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object,
+                                      const Symmetry& symmetry, double continuous_step_rad) {
   const auto turns = boxHalfTurns();
-  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad), {turns.begin(), turns.end()});
+  return closestToCanonical(T_camera_object, symmetry.sampled(continuous_step_rad),
+                            {turns.begin(), turns.end()});
 }
 
 CuboidProjection projectCuboid(const PinholeModel& camera, const Eigen::Isometry3d& T_camera_object,
@@ -50,8 +54,10 @@ CuboidProjection projectCuboid(const PinholeModel& camera, const Eigen::Isometry
   for (int k = 0; k < kCuboidKeypoints; ++k) {
     out.uv[k].setZero();
     const auto uv = camera.project(T_camera_object * corners[k]);
-    // Pixel centres sit at integer coordinates (CameraInfo's convention): the image spans -0.5 .. W - 0.5.
-    if (!uv || uv->x() < -0.5 || uv->y() < -0.5 || uv->x() >= camera.width - 0.5 || uv->y() >= camera.height - 0.5)
+    // Pixel centres sit at integer coordinates (CameraInfo's convention): the image spans -0.5 .. W
+    // - 0.5.
+    if (!uv || uv->x() < -0.5 || uv->y() < -0.5 || uv->x() >= camera.width - 0.5 ||
+        uv->y() >= camera.height - 0.5)
       continue;
     out.uv[k] = *uv;
     out.inside[k] = true;

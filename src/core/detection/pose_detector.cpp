@@ -2,20 +2,23 @@
 
 namespace sgt::detection {
 
-PoseDetector::PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog, DecodeOptions decode,
-                           PnpOptions pnp)
+PoseDetector::PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog,
+                           DecodeOptions decode, PnpOptions pnp)
     : detector_(model_yaml, decode), pnp_(pnp) {
-  if (detector_.info().keypoint_order != "dope_cuboid" || detector_.info().keypoints != kCuboidKeypoints)
+  if (detector_.info().keypoint_order != "dope_cuboid" ||
+      detector_.info().keypoints != kCuboidKeypoints)
     throw DetectorError("model " + model_yaml + ": PnP needs " + std::to_string(kCuboidKeypoints) +
-                        " keypoints in dope_cuboid order, the model has " + std::to_string(detector_.info().keypoints) +
-                        " in '" + detector_.info().keypoint_order + "'");
+                        " keypoints in dope_cuboid order, the model has " +
+                        std::to_string(detector_.info().keypoints) + " in '" +
+                        detector_.info().keypoint_order + "'");
   for (const std::string& name : detector_.info().names) {
     if (!catalog.contains(name)) continue;
     const Eigen::AlignedBox3f& b = catalog.get(name).box;
     boxes_[name] = Eigen::AlignedBox3d(b.min().cast<double>(), b.max().cast<double>());
     cuboids_[name] = cuboidKeypoints(boxes_[name]);
   }
-  if (cuboids_.empty()) throw DetectorError("model " + model_yaml + ": none of its classes is in the object catalog");
+  if (cuboids_.empty())
+    throw DetectorError("model " + model_yaml + ": none of its classes is in the object catalog");
 }
 
 std::vector<ObjectDetection> PoseDetector::detect(const cv::Mat& rgb, const PinholeModel& camera,
@@ -31,7 +34,8 @@ std::vector<ObjectDetection> PoseDetector::detect(const cv::Mat& rgb, const Pinh
       od.pnp = solveCuboidPnp(d.keypoints, cuboid->second, camera, pnp_);
       if (!od.pnp.ok()) ++stats_.rejected[pnpStatusName(od.pnp.status)];
       if (od.pnp.ok() && depth)
-        if (const auto T = depthCorrectedPose(d, od.pnp.T_camera_object, boxes_.at(d.class_name), *depth))
+        if (const auto T =
+                depthCorrectedPose(d, od.pnp.T_camera_object, boxes_.at(d.class_name), *depth))
           od.pnp.T_camera_object = *T;
     }
     od.detection = std::move(d);

@@ -22,7 +22,8 @@ namespace {
 }
 
 float triangleArea(const TriangleMesh& m, const Triangle& t) {
-  return 0.5f * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+  return 0.5f *
+         (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
 }
 
 bool isDegenerate(const TriangleMesh& m, const Triangle& t, float min_area) {
@@ -48,8 +49,8 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
           fail(path, "face " + std::to_string(f) + " references vertex " +
                          std::to_string(face.mIndices[c]) + " of " +
                          std::to_string(mesh->mNumVertices));
-      out.triangles.push_back({face.mIndices[0] + offset, face.mIndices[1] + offset,
-                               face.mIndices[2] + offset});
+      out.triangles.push_back(
+          {face.mIndices[0] + offset, face.mIndices[1] + offset, face.mIndices[2] + offset});
     }
     ++report.merged_meshes;
   }
@@ -61,11 +62,10 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 
 std::size_t removeDegenerateTriangles(TriangleMesh& mesh, float min_area) {
   const std::size_t before = mesh.triangles.size();
-  mesh.triangles.erase(std::remove_if(mesh.triangles.begin(), mesh.triangles.end(),
-                                      [&](const Triangle& t) {
-                                        return isDegenerate(mesh, t, min_area);
-                                      }),
-                       mesh.triangles.end());
+  mesh.triangles.erase(
+      std::remove_if(mesh.triangles.begin(), mesh.triangles.end(),
+                     [&](const Triangle& t) { return isDegenerate(mesh, t, min_area); }),
+      mesh.triangles.end());
   return before - mesh.triangles.size();
 }
 
@@ -139,7 +139,8 @@ void saveStl(const TriangleMesh& mesh, const std::string& path) {
     const Eigen::Vector3f a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
     Eigen::Vector3f normal = (b - a).cross(c - a);
     if (normal.norm() > 0) normal.normalize();
-    for (const Eigen::Vector3f& v : {normal, a, b, c}) out.write(reinterpret_cast<const char*>(v.data()), 12);
+    for (const Eigen::Vector3f& v : {normal, a, b, c})
+      out.write(reinterpret_cast<const char*>(v.data()), 12);
     const std::uint16_t attr = 0;
     out.write(reinterpret_cast<const char*>(&attr), 2);
   }
@@ -148,13 +149,17 @@ void saveStl(const TriangleMesh& mesh, const std::string& path) {
 void savePly(const TriangleMesh& mesh, const std::string& path) {
   static_assert(sizeof(float) == 4 && sizeof(std::uint32_t) == 4, "PLY float and uint are 4 bytes");
   const std::uint16_t probe = 1;
-  if (*reinterpret_cast<const std::uint8_t*>(&probe) != 1) throw MeshError("savePly: needs a little-endian host");
+  if (*reinterpret_cast<const std::uint8_t*>(&probe) != 1)
+    throw MeshError("savePly: needs a little-endian host");
   std::ofstream out(path, std::ios::binary);
   if (!out) throw MeshError("cannot write '" + path + "'");
   out << "ply\nformat binary_little_endian 1.0\ncomment scene_graph_tracker\n"
-      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
-      << "element face " << mesh.triangles.size() << "\nproperty list uchar uint vertex_indices\nend_header\n";
-  for (const Eigen::Vector3f& v : mesh.vertices) out.write(reinterpret_cast<const char*>(v.data()), 12);
+      << "element vertex " << mesh.vertices.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n"
+      << "element face " << mesh.triangles.size()
+      << "\nproperty list uchar uint vertex_indices\nend_header\n";
+  for (const Eigen::Vector3f& v : mesh.vertices)
+    out.write(reinterpret_cast<const char*>(v.data()), 12);
   for (const Triangle& t : mesh.triangles) {
     const std::uint8_t n = 3;
     out.write(reinterpret_cast<const char*>(&n), 1);
@@ -178,7 +183,8 @@ std::string resolveResourcePath(const std::string& uri, const std::string& base_
         if (dir.empty()) continue;
         if (fs::path(dir).filename() == pkg && fs::exists(fs::path(dir) / "package.xml"))
           return (fs::path(dir) / rel).string();
-        if (fs::exists(fs::path(dir) / pkg / "package.xml")) return (fs::path(dir) / pkg / rel).string();
+        if (fs::exists(fs::path(dir) / pkg / "package.xml"))
+          return (fs::path(dir) / pkg / rel).string();
       }
     }
     if (pkg == "scene_graph_tracker") return (fs::path(SGT_SOURCE_DIR) / rel).string();

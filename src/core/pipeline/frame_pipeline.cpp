@@ -28,7 +28,8 @@ class StageClock {
 
 }  // namespace
 
-FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::shared_ptr<const TriangleMesh> static_map,
+FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog,
+                             std::shared_ptr<const TriangleMesh> static_map,
                              const PipelineOptions& options)
     : catalog_(std::move(catalog)), options_(options) {
   map_node_ = graph_.add("static_map", "static_map", kWorldNode, Eigen::Isometry3d::Identity());
@@ -36,8 +37,10 @@ FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog, std::
   for (const std::string& name : catalog_->names()) {
     const auto& mesh = catalog_->get(name).mesh;
     class_mesh_[name] = scene_.addMesh(mesh);
-    const std::size_t step = std::max<std::size_t>(1, mesh->vertices.size() / 64);  // up to ~64 vertices
-    for (std::size_t i = 0; i < mesh->vertices.size(); i += step) class_samples_[name].push_back(mesh->vertices[i]);
+    const std::size_t step =
+        std::max<std::size_t>(1, mesh->vertices.size() / 64);  // up to ~64 vertices
+    for (std::size_t i = 0; i < mesh->vertices.size(); i += step)
+      class_samples_[name].push_back(mesh->vertices[i]);
   }
   scene_.commit();
 }
@@ -93,25 +96,30 @@ void FramePipeline::localize(PipelineFrame& frame, PipelineResult& out) {
   out.T_map_base = T_map_odom_ * frame.T_odom_base;
 }
 
-std::vector<RangeMeasurements> FramePipeline::localizationSets(const std::vector<RangeMeasurements>& sets) const {
+std::vector<RangeMeasurements> FramePipeline::localizationSets(
+    const std::vector<RangeMeasurements>& sets) const {
   std::vector<RangeMeasurements> chosen;
   for (const RangeMeasurements& m : sets)
-    if (!options_.localize_with_lidar_only || std::holds_alternative<SpinningLidarModel>(m.model)) chosen.push_back(m);
+    if (!options_.localize_with_lidar_only || std::holds_alternative<SpinningLidarModel>(m.model))
+      chosen.push_back(m);
   return chosen;
 }
 
-std::vector<RangeMeasurements> FramePipeline::objectSets(const std::vector<RangeMeasurements>& sets) const {
+std::vector<RangeMeasurements> FramePipeline::objectSets(
+    const std::vector<RangeMeasurements>& sets) const {
   // Depth images when the frame has one; LiDAR returns too only with refine_with_lidar.
   const bool has_depth = std::any_of(sets.begin(), sets.end(), [](const RangeMeasurements& m) {
     return std::holds_alternative<PinholeModel>(m.model);
   });
   std::vector<RangeMeasurements> chosen;
   for (const RangeMeasurements& m : sets)
-    if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model)) chosen.push_back(m);
+    if (options_.refine_with_lidar || !has_depth || std::holds_alternative<PinholeModel>(m.model))
+      chosen.push_back(m);
   return chosen;
 }
 
-std::vector<PoseHypothesis> FramePipeline::acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses) const {
+std::vector<PoseHypothesis> FramePipeline::acceptedHypotheses(
+    const std::vector<PoseHypothesis>& hypotheses) const {
   std::vector<PoseHypothesis> accepted;
   for (const PoseHypothesis& h : hypotheses)
     if (h.score >= options_.min_hypothesis_score && catalog_->contains(h.class_name) &&
@@ -124,17 +132,21 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
                                  std::vector<std::string>& dropped) {
   if (options_.contest_restarts && !sets.empty()) contestRestarts(sets);
   for (Track& t : tracks_) t.before_restart.reset();
-  if (options_.search_orientations && !sets.empty()) searchOrientations(sets, stamp);
-  else needs_orientation_.clear();
+  if (options_.search_orientations && !sets.empty())
+    searchOrientations(sets, stamp);
+  else
+    needs_orientation_.clear();
   if (tracks_.empty() || sets.empty()) return;
   std::vector<RefineTarget> targets;
-  for (const Track& t : tracks_) targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});
+  for (const Track& t : tracks_)
+    targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});
   const RefineResult r = ObjectRefiner(options_.refiner).refine(scene_, targets, sets);
   updateTracks(r, sets, stamp, dropped);
   scene_.commit();
 }
 
-std::vector<Presegmentation> FramePipeline::presegmentAll(const std::vector<RangeMeasurements>& sets) {
+std::vector<Presegmentation> FramePipeline::presegmentAll(
+    const std::vector<RangeMeasurements>& sets) {
   // Only tracks that explain points stay in the scene (PresegmentationRole).
   std::vector<NodeId> hidden;
   for (const Track& t : tracks_)
@@ -142,7 +154,8 @@ std::vector<Presegmentation> FramePipeline::presegmentAll(const std::vector<Rang
       hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
   if (!hidden.empty()) scene_.commit();
   std::vector<Presegmentation> result;
-  for (const RangeMeasurements& m : sets) result.push_back(presegment(scene_, m, options_.presegmentation));
+  for (const RangeMeasurements& m : sets)
+    result.push_back(presegment(scene_, m, options_.presegmentation));
   for (NodeId n : hidden) scene_.setInstanceEnabled(n, true);
   if (!hidden.empty()) scene_.commit();
   return result;
@@ -162,8 +175,10 @@ std::vector<TrackedObject> FramePipeline::snapshot() const {
   return objects;
 }
 
-std::string FramePipeline::addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object, double stamp) {
-  if (!catalog_->contains(class_name)) throw std::invalid_argument("no class '" + class_name + "' in the catalog");
+std::string FramePipeline::addTrack(const std::string& class_name,
+                                    const Eigen::Isometry3d& T_map_object, double stamp) {
+  if (!catalog_->contains(class_name))
+    throw std::invalid_argument("no class '" + class_name + "' in the catalog");
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   Track t{TrackedObject{}, TrackLife{}, PoseFilter(T_map_object, C, options_.motion)};
   TrackedObject& o = t.out;

@@ -28,7 +28,9 @@ std::vector<std::size_t> FramePipeline::parentsFirst() const {
   std::vector<std::pair<int, std::size_t>> by_depth;
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     int depth = 0;
-    for (NodeId n = tracks_[k].out.node; graph_.node(n).parent != kWorldNode; n = graph_.node(n).parent) ++depth;
+    for (NodeId n = tracks_[k].out.node; graph_.node(n).parent != kWorldNode;
+         n = graph_.node(n).parent)
+      ++depth;
     by_depth.emplace_back(depth, k);
   }
   std::sort(by_depth.begin(), by_depth.end());
@@ -38,7 +40,8 @@ std::vector<std::size_t> FramePipeline::parentsFirst() const {
 }
 
 Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis>& hypotheses,
-                                                const std::vector<Eigen::Isometry3d>& in_map, double forbidden) const {
+                                                const std::vector<Eigen::Isometry3d>& in_map,
+                                                double forbidden) const {
   const LifecycleOptions lo = lifecycleOptions();
   Eigen::MatrixXd cost(hypotheses.size(), tracks_.size());
   for (std::size_t h = 0; h < hypotheses.size(); ++h)
@@ -51,12 +54,14 @@ Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis
   return cost;
 }
 
-void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
-                              double stamp) {
+void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
+                              const Eigen::Isometry3d& T_map_base, double stamp) {
   const double forbidden = std::numeric_limits<double>::max();
   std::vector<Eigen::Isometry3d> in_map(hypotheses.size());
-  for (std::size_t h = 0; h < hypotheses.size(); ++h) in_map[h] = T_map_base * hypotheses[h].T_base_object;
-  const std::vector<int> match = assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
+  for (std::size_t h = 0; h < hypotheses.size(); ++h)
+    in_map[h] = T_map_base * hypotheses[h].T_base_object;
+  const std::vector<int> match =
+      assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     if (match[h] < 0) {  // a new object, or a false detection: a tentative track either way
       addTrack(hypotheses[h].class_name, in_map[h], stamp);
@@ -66,7 +71,8 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, con
     Track& t = tracks_[match[h]];
     t.life.last_hypothesis = stamp;
     ++t.life.detections;
-    if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t))) restartFromDetection(t, in_map[h]);
+    if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
+      restartFromDetection(t, in_map[h]);
   }
 }
 

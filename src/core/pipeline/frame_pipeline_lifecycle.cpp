@@ -27,13 +27,15 @@ bool FramePipeline::unsupported(const Track& t) const {
 }
 
 bool FramePipeline::placedByWeakFit(const Track& t) const {
-  return WeakFitPlacement::places(t.life.state, isChild(t.out.node), t.out.quality, lifecycleOptions());
+  return WeakFitPlacement::places(t.life.state, isChild(t.out.node), t.out.quality,
+                                  lifecycleOptions());
 }
 
-void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets, double stamp,
-                                 std::vector<std::string>& dropped) {
+void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeMeasurements>& sets,
+                                 double stamp, std::vector<std::string>& dropped) {
   const LifecycleOptions lo = lifecycleOptions();
-  const std::vector<std::size_t> order = parentsFirst();  // a coasting child follows its parent's new pose
+  const std::vector<std::size_t> order =
+      parentsFirst();  // a coasting child follows its parent's new pose
   std::vector<TrackEvidence> evidence(tracks_.size());
   std::vector<FitUse> uses(tracks_.size());
   for (std::size_t k : order) {
@@ -45,8 +47,8 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
   std::vector<bool> remove(tracks_.size(), false);
   for (std::size_t k : order) {
     Track& t = tracks_[k];
-    evidence[k].queued_for_search =
-        std::find(needs_orientation_.begin(), needs_orientation_.end(), t.out.id) != needs_orientation_.end();
+    evidence[k].queued_for_search = std::find(needs_orientation_.begin(), needs_orientation_.end(),
+                                              t.out.id) != needs_orientation_.end();
     const Transition next_state = next(t.life, evidence[k], lo);
     t.life = next_state.life;
     if (next_state.search_orientation) needs_orientation_.push_back(t.out.id);
@@ -68,7 +70,8 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
   e.fit = fit.quality;
   e.fit_jump_m = (fit.T_world_object.translation() - o.T_map_object.translation()).norm();
   const Symmetry* symmetry = &catalog_->get(o.class_name).symmetry;
-  const auto C_follow = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  const auto C_follow =
+      diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   switch (useOfFit(t.life, e, lo)) {
     case FitUse::kPlace:  // the next frame refines from the weak fit
       t.filter = PoseFilter(fit.T_world_object, C_follow, options_.motion);
@@ -96,7 +99,8 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
   return e;
 }
 
-void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
+void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
+                                        const std::vector<FitUse>& uses,
                                         const std::vector<std::size_t>& order,
                                         const std::vector<RangeMeasurements>& sets) {
   // Evidence of absence of a coasting confirmed or lost track, at the pose it coasts at.
@@ -108,7 +112,8 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence, co
   if (!coasting.empty()) scene_.commit();
   for (std::size_t k : coasting) evidence[k].absence_seen = seesAbsence(k, sets);
   for (std::size_t k : order)
-    evidence[k].sunk = !evidence[k].child && sunkIntoMap(tracks_[k].out.class_name, tracks_[k].out.T_map_object);
+    evidence[k].sunk =
+        !evidence[k].child && sunkIntoMap(tracks_[k].out.class_name, tracks_[k].out.T_map_object);
 }
 
 }  // namespace sgt

@@ -15,18 +15,21 @@ void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) 
   prior.world_up = Eigen::Vector3d::UnitZ();
   prior.weak_fits_score = true;
   for (Track& t : tracks_) {
-    if (!t.before_restart || !RestartContest::competes(sunkIntoMap(t.out.class_name, t.before_restart->pose()))) continue;
+    if (!t.before_restart ||
+        !RestartContest::competes(sunkIntoMap(t.out.class_name, t.before_restart->pose())))
+      continue;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     // The incumbent first: it wins ties.
     const std::vector<Eigen::Isometry3d> candidates{t.before_restart->pose(), t.out.T_map_object};
-    const OrientationChoice choice =
-        chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
+    const OrientationChoice choice = chooseOrientation(
+        scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
     if (!RestartContest::detectionWins(choice.candidate, choice.quality.inlier_ratio, lo)) {
       // The track stays: its filter as before, no orientation search.
       t.filter = *t.before_restart;
       t.out.T_map_object = t.filter.pose();
-      needs_orientation_.erase(std::remove(needs_orientation_.begin(), needs_orientation_.end(), t.out.id),
-                               needs_orientation_.end());
+      needs_orientation_.erase(
+          std::remove(needs_orientation_.begin(), needs_orientation_.end(), t.out.id),
+          needs_orientation_.end());
     }
     // Refinement goes on from the winner as it was, not as the contest's few rounds left it.
     scene_.setInstancePose(t.out.node, t.out.T_map_object);
@@ -46,7 +49,8 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
       waiting.push_back(id);  // next frame
       continue;
     }
-    const auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.out.id == id; });
+    const auto it = std::find_if(tracks_.begin(), tracks_.end(),
+                                 [&](const Track& t) { return t.out.id == id; });
     if (it == tracks_.end()) continue;
     Track& t = *it;
     // A lost track restarting again soon waits.
@@ -54,13 +58,16 @@ void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& set
     t.life.last_orientation_search = stamp;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     ++searched;
-    const std::vector<Eigen::Isometry3d> candidates = orientationCandidates(t.out.T_map_object, c.box, rotations);
-    const OrientationChoice choice =
-        chooseOrientation(scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
+    const std::vector<Eigen::Isometry3d> candidates =
+        orientationCandidates(t.out.T_map_object, c.box, rotations);
+    const OrientationChoice choice = chooseOrientation(
+        scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
     if (choice.candidates_fitted == 0) continue;  // nothing to judge by: the detection stands
     t.out.T_map_object = choice.T_world_object;
-    t.filter = PoseFilter(choice.T_world_object, diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
-                          options_.motion);
+    t.filter =
+        PoseFilter(choice.T_world_object,
+                   diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
+                   options_.motion);
     graph_.setWorldTransform(t.out.node, choice.T_world_object);
   }
   needs_orientation_ = std::move(waiting);

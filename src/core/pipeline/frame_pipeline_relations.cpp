@@ -9,12 +9,14 @@ std::string FramePipeline::trackIdOf(NodeId node) const {
   return "";
 }
 
-void FramePipeline::updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets) {
+void FramePipeline::updateRelations(PipelineResult& out,
+                                    const std::vector<RangeMeasurements>& sets) {
   std::vector<relations::Entity> entities = furniture_;
   for (const Track& t : tracks_) {
     if (t.life.state == TrackState::kTentative) continue;
     const Eigen::AlignedBox3d box = catalog_->get(t.out.class_name).box.cast<double>();
-    entities.push_back({t.out.id, t.out.node, relations::orientedBox(box, t.out.T_map_object), true, t.out.class_name});
+    entities.push_back({t.out.id, t.out.node, relations::orientedBox(box, t.out.T_map_object), true,
+                        t.out.class_name});
   }
   std::optional<Eigen::Isometry3d> camera;
   for (const RangeMeasurements& m : sets)
@@ -34,7 +36,8 @@ void FramePipeline::reparent(const std::vector<relations::Edge>& edges) {
       for (const relations::Edge& e : edges) {
         if (parent != kWorldNode || e.subject != t.out.id || e.relation != kind) continue;
         for (const Track& p : tracks_)
-          if (p.out.id == e.object && !graph_.isAncestor(t.out.node, p.out.node)) parent = p.out.node;
+          if (p.out.id == e.object && !graph_.isAncestor(t.out.node, p.out.node))
+            parent = p.out.node;
       }
     }
     if (graph_.node(t.out.node).parent != parent) graph_.reparent(t.out.node, parent);

@@ -7,14 +7,17 @@
 
 namespace sgt {
 
-double FramePipeline::fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const {
-  const double few = static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers);
+double FramePipeline::fitWeakness(const TrackedObject& o,
+                                  const std::vector<RangeMeasurements>& sets) const {
+  const double few =
+      static_cast<double>(options_.well_seen_points) / std::max(1, o.quality.inliers);
   double range = 0.0;  // to the nearest sensor of the frame
   for (std::size_t s = 0; s < sets.size(); ++s) {
     const double d = (o.T_map_object.translation() - sets[s].T_world_sensor.translation()).norm();
     range = s == 0 ? d : std::min(range, d);
   }
-  const double far = options_.far_fit_from_m > 0.0 ? std::pow(range / options_.far_fit_from_m, 4) : 1.0;
+  const double far =
+      options_.far_fit_from_m > 0.0 ? std::pow(range / options_.far_fit_from_m, 4) : 1.0;
   return std::max(1.0, few) * std::max(1.0, far);
 }
 
@@ -28,13 +31,17 @@ struct RayCounts {
   int reaching = 0, agreeing = 0;
 };
 RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& extent,
-                    const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro, bool limited) {
+                    const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro,
+                    bool limited) {
   RayCounts c;
   RayHits hits;
   for (const RangeMeasurements& m : sets) {
-    const bool coarse = !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
-    const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin), coarse ? ro.ray_stride : 1);
-    scene.cast(*m.rays, m.T_world_sensor, hits, &tiles, limited ? CastLimit{&m.range, ro.max_dist_last} : CastLimit{});
+    const bool coarse =
+        !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
+    const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),
+                                            coarse ? ro.ray_stride : 1);
+    scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
+               limited ? CastLimit{&m.range, ro.max_dist_last} : CastLimit{});
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (hits.node[i] != node || !m.valid(i)) return;
       ++c.reaching;
@@ -48,10 +55,13 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
 
 bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets) {
   const NodeId node = tracks_[k].out.node;
-  const ObjectExtent extent{scene_.instancePose(node), scene_.mesh(scene_.instanceMesh(node)).boundingBox()};
+  const ObjectExtent extent{scene_.instancePose(node),
+                            scene_.mesh(scene_.instanceMesh(node)).boundingBox()};
   const RefinerOptions& ro = options_.refiner;
   const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
-  if (seen.reaching < ro.alignment.min_points || seen.agreeing >= ro.min_inlier_ratio * seen.reaching) return false;
+  if (seen.reaching < ro.alignment.min_points ||
+      seen.agreeing >= ro.min_inlier_ratio * seen.reaching)
+    return false;
   for (const Track& t : tracks_)
     if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
   scene_.commit();
@@ -61,7 +71,8 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
 }
 
-bool FramePipeline::sunkIntoMap(const std::string& class_name, const Eigen::Isometry3d& T_map_object) const {
+bool FramePipeline::sunkIntoMap(const std::string& class_name,
+                                const Eigen::Isometry3d& T_map_object) const {
   const MeshId map = scene_.staticMapMesh();
   if (map < 0 || options_.max_sunk_fraction >= 1.0) return false;
   const std::vector<Eigen::Vector3f>& samples = class_samples_.at(class_name);
@@ -74,7 +85,8 @@ bool FramePipeline::sunkIntoMap(const std::string& class_name, const Eigen::Isom
     if (!scene_.closestPoint(map, p, 5.0f * tolerance, q) || q.distance <= tolerance) continue;
     sunk += (p - q.point).dot(q.normal) < 0.0f;  // behind the closest face
   }
-  return static_cast<double>(sunk) > options_.max_sunk_fraction * static_cast<double>(samples.size());
+  return static_cast<double>(sunk) >
+         options_.max_sunk_fraction * static_cast<double>(samples.size());
 }
 
 }  // namespace sgt

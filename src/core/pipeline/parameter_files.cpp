@@ -21,9 +21,11 @@ bool isNumber(const std::string& s) {
 
 // A string as a YAML scalar: plain when YAML 1.1 reads it back as that string, else quoted.
 std::string yamlString(const std::string& s) {
-  static const char* const kWords[] = {"y", "n", "yes", "no", "true", "false", "on", "off", "null", "~"};
+  static const char* const kWords[] = {"y",     "n",  "yes", "no",   "true",
+                                       "false", "on", "off", "null", "~"};
   std::string lower = s;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   bool plain = !s.empty() && !isNumber(s) && std::all_of(s.begin(), s.end(), [](unsigned char c) {
     return std::isalnum(c) || c == '_' || c == '.' || c == '/' || c == '-';
   });
@@ -38,7 +40,8 @@ std::string yamlString(const std::string& s) {
 std::string shownString(const std::string& s) {
   const std::string source = SGT_SOURCE_DIR;
   if (s.empty()) return "`\"\"`";
-  if (s.compare(0, source.size(), source) == 0) return "`$(find scene_graph_tracker)" + s.substr(source.size()) + "`";
+  if (s.compare(0, source.size(), source) == 0)
+    return "`$(find scene_graph_tracker)" + s.substr(source.size()) + "`";
   return "`" + s + "`";
 }
 
@@ -58,20 +61,26 @@ std::string yaml(const Schema<O>& schema, const std::string& header) {
     std::string block;
     for (const Param<O>& p : schema) {
       if (p.group != g.name || !p.in_file) continue;
-      if (!any) lines.push_back({"", ""}), lines.push_back({std::string("# ") + g.name + ": " + g.doc, ""}), any = true;
-      if (std::count(p.name.begin(), p.name.end(), '/') > 1) throw std::logic_error(p.name + ": one level of nesting at most");
+      if (!any)
+        lines.push_back({"", ""}), lines.push_back({std::string("# ") + g.name + ": " + g.doc, ""}),
+            any = true;
+      if (std::count(p.name.begin(), p.name.end(), '/') > 1)
+        throw std::logic_error(p.name + ": one level of nesting at most");
       const std::size_t slash = p.name.find('/');
       const std::string prefix = slash == std::string::npos ? "" : p.name.substr(0, slash);
       if (prefix != block) {
         if (!block.empty()) closed.push_back(block);
         if (std::find(closed.begin(), closed.end(), prefix) != closed.end())
-          throw std::logic_error(p.name + ": the parameters under " + prefix + "/ must follow each other");
+          throw std::logic_error(p.name + ": the parameters under " + prefix +
+                                 "/ must follow each other");
         if (!prefix.empty()) lines.push_back({prefix + ":", ""});
         block = prefix;
       }
       const Value v = p.get(defaults);
-      const std::string value = p.type == Type::kString ? yamlString(std::get<std::string>(v)) : format(p, v);
-      lines.push_back({(prefix.empty() ? "" : "  ") + p.name.substr(prefix.empty() ? 0 : slash + 1) + ": " + value,
+      const std::string value =
+          p.type == Type::kString ? yamlString(std::get<std::string>(v)) : format(p, v);
+      lines.push_back({(prefix.empty() ? "" : "  ") +
+                           p.name.substr(prefix.empty() ? 0 : slash + 1) + ": " + value,
                        comment(p)});
     }
     if (!block.empty()) closed.push_back(block);
@@ -111,9 +120,11 @@ std::string tables(const Schema<O>& schema) {
         any = true, first = false;
       }
       const Value v = p.get(defaults);
-      const std::string shown = p.type == Type::kString ? shownString(std::get<std::string>(v)) : format(p, v);
-      out << "| `" << p.name << "` | " << toString(p.type) << " | " << cell(shown) << " | " << range(p) << " | "
-          << cell(p.unit) << " | " << (p.runtime ? "yes" : "no") << " | " << cell(p.doc) << " |\n";
+      const std::string shown =
+          p.type == Type::kString ? shownString(std::get<std::string>(v)) : format(p, v);
+      out << "| `" << p.name << "` | " << toString(p.type) << " | " << cell(shown) << " | "
+          << range(p) << " | " << cell(p.unit) << " | " << (p.runtime ? "yes" : "no") << " | "
+          << cell(p.doc) << " |\n";
     }
   }
   return out.str();
@@ -147,9 +158,10 @@ std::pair<std::size_t, std::size_t> section(const std::string& text, const std::
   const std::string begin = markerLine("BEGIN", what), end = markerLine("END", what);
   const std::size_t b = text.find(begin);
   const std::size_t e = b == std::string::npos ? b : text.find(end, b + begin.size());
-  if (b == std::string::npos || e == std::string::npos || (b > 0 && text[b - 1] != '\n') || text[e - 1] != '\n')
-    throw std::runtime_error("no lines '" + begin.substr(0, begin.size() - 1) + "' ... '" + end.substr(0, end.size() - 1) +
-                             "'");
+  if (b == std::string::npos || e == std::string::npos || (b > 0 && text[b - 1] != '\n') ||
+      text[e - 1] != '\n')
+    throw std::runtime_error("no lines '" + begin.substr(0, begin.size() - 1) + "' ... '" +
+                             end.substr(0, end.size() - 1) + "'");
   return {b + begin.size(), e};
 }
 
@@ -157,7 +169,8 @@ std::pair<std::size_t, std::size_t> section(const std::string& text, const std::
 
 std::string formatNumber(double v, bool single) {
   char buf[64];
-  const auto r = single ? std::to_chars(buf, buf + sizeof buf, static_cast<float>(v)) : std::to_chars(buf, buf + sizeof buf, v);
+  const auto r = single ? std::to_chars(buf, buf + sizeof buf, static_cast<float>(v))
+                        : std::to_chars(buf, buf + sizeof buf, v);
   std::string s(buf, r.ptr);
   if (s.find_first_of(".na") != std::string::npos) return s;  // has a point, or nan / inf
   const std::size_t e = s.find('e');
@@ -165,7 +178,9 @@ std::string formatNumber(double v, bool single) {
 }
 
 std::string trackerYaml() {
-  return yaml(trackerSchema(), R"(# Parameters of the tracker nodelet (private namespace, e.g. /tracker/...) and of `evaluate`
+  return yaml(
+      trackerSchema(),
+      R"(# Parameters of the tracker nodelet (private namespace, e.g. /tracker/...) and of `evaluate`
 # (--params: this file by default). The values are the defaults of the option structs.
 # Generated from the parameter schema (src/core/pipeline/parameter_schema.cpp) by `make params`:
 # change defaults there. A robot with other values keeps its own copy (tracker.launch params:=FILE).
@@ -174,7 +189,9 @@ std::string trackerYaml() {
 }
 
 std::string detectorYaml() {
-  return yaml(detectorSchema(), R"(# Parameters of the detector nodelet (private namespace, e.g. /detector/...) and of `evaluate
+  return yaml(
+      detectorSchema(),
+      R"(# Parameters of the detector nodelet (private namespace, e.g. /detector/...) and of `evaluate
 # --detector` (--detector-params: this file by default). The values are the defaults of the option
 # structs. Generated from the parameter schema (src/core/pipeline/parameter_schema.cpp) by `make
 # params`: change defaults there. A robot with other values keeps its own copy (tracker.launch
@@ -199,11 +216,15 @@ gen = ParameterGenerator()
       if (p.group != g.name || !p.runtime) continue;
       if (p.type == Type::kString) throw std::logic_error(p.name + ": no run-time strings");
       if (!any) out += std::string("# ") + g.name + "\n", any = true;
-      const char* type = p.type == Type::kBool ? "bool_t" : p.type == Type::kInt ? "int_t" : "double_t";
+      const char* type = p.type == Type::kBool  ? "bool_t"
+                         : p.type == Type::kInt ? "int_t"
+                                                : "double_t";
       out += "gen.add(\"" + reconfigureName(p.name) + "\", " + type + ", 0, \"" + p.doc +
              (p.unit.empty() ? "" : " (" + p.unit + ")") + "\", " + python(p, p.get(defaults));
-      if (p.type == Type::kInt) out += ", " + std::to_string(int(p.min)) + ", " + std::to_string(int(p.max));
-      if (p.type == Type::kDouble) out += ", " + formatNumber(p.min, false) + ", " + formatNumber(p.max, false);
+      if (p.type == Type::kInt)
+        out += ", " + std::to_string(int(p.min)) + ", " + std::to_string(int(p.max));
+      if (p.type == Type::kDouble)
+        out += ", " + formatNumber(p.min, false) + ", " + formatNumber(p.max, false);
       out += ")\n";
     }
   }
@@ -218,12 +239,17 @@ std::string detectorIndex() { return index(detectorSchema()); }
 std::string parameterReference() {
   return "# Parameters\n\n"
          "Every parameter of the tracker and detector nodelets, from the parameter schema\n"
-         "(`src/core/pipeline/parameter_schema.cpp`; `make params` writes this file, `config/*.yaml`,\n"
-         "`cfg/Tracker.cfg` and the README's index; `test_parameter_schema` checks them). Names are the\n"
-         "YAML keys in the node's private namespace (`/` nests); dynamic_reconfigure has every run-time\n"
+         "(`src/core/pipeline/parameter_schema.cpp`; `make params` writes this file, "
+         "`config/*.yaml`,\n"
+         "`cfg/Tracker.cfg` and the README's index; `test_parameter_schema` checks them). Names "
+         "are the\n"
+         "YAML keys in the node's private namespace (`/` nests); dynamic_reconfigure has every "
+         "run-time\n"
          "one under the same name with `_` for `/`. The defaults are the option structs'.\n\n"
          "## Tracker (`config/tracker.yaml`, `evaluate --params`)\n\n" +
-         trackerTables() + "\n## Detector (`config/detector.yaml`, `evaluate --detector-params`)\n\n" + detectorTables();
+         trackerTables() +
+         "\n## Detector (`config/detector.yaml`, `evaluate --detector-params`)\n\n" +
+         detectorTables();
 }
 
 std::string generatedSection(const std::string& text, const std::string& what) {
@@ -231,7 +257,8 @@ std::string generatedSection(const std::string& text, const std::string& what) {
   return text.substr(b, e - b);
 }
 
-std::string replaceGeneratedSection(const std::string& text, const std::string& what, const std::string& body) {
+std::string replaceGeneratedSection(const std::string& text, const std::string& what,
+                                    const std::string& body) {
   const auto [b, e] = section(text, what);
   return text.substr(0, b) + body + text.substr(e);
 }

@@ -17,11 +17,15 @@ constexpr bool kStart = false;   // read when the nodelet starts
 
 template <class T>
 constexpr Type typeOf() {
-  if constexpr (std::is_same_v<T, bool>) return Type::kBool;
-  else if constexpr (std::is_same_v<T, int>) return Type::kInt;
-  else if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>) return Type::kDouble;
+  if constexpr (std::is_same_v<T, bool>)
+    return Type::kBool;
+  else if constexpr (std::is_same_v<T, int>)
+    return Type::kInt;
+  else if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>)
+    return Type::kDouble;
   else {
-    static_assert(std::is_same_v<T, std::string>, "parameters are bool, int, float, double or string");
+    static_assert(std::is_same_v<T, std::string>,
+                  "parameters are bool, int, float, double or string");
     return Type::kString;
   }
 }
@@ -36,19 +40,23 @@ Param<O> bind(const char* name, const char* group, Ref ref, const char* doc) {
   p.single = std::is_same_v<T, float>;
   p.get = [ref](const O& o) -> Value {
     const T& v = ref(const_cast<O&>(o));  // read only
-    if constexpr (std::is_same_v<T, float>) return static_cast<double>(v);
-    else return v;
+    if constexpr (std::is_same_v<T, float>)
+      return static_cast<double>(v);
+    else
+      return v;
   };
   p.set = [ref](O& o, const Value& v) {
-    if constexpr (std::is_same_v<T, float>) ref(o) = static_cast<float>(std::get<double>(v));
-    else ref(o) = std::get<T>(v);
+    if constexpr (std::is_same_v<T, float>)
+      ref(o) = static_cast<float>(std::get<double>(v));
+    else
+      ref(o) = std::get<T>(v);
   };
   return p;
 }
 
 template <class O, class Ref>
-Param<O> number(const char* name, const char* group, Ref ref, double min, double max, const char* unit, bool runtime,
-                const char* doc) {
+Param<O> number(const char* name, const char* group, Ref ref, double min, double max,
+                const char* unit, bool runtime, const char* doc) {
   Param<O> p = bind<O>(name, group, ref, doc);
   p.min = min, p.max = max, p.unit = unit, p.runtime = runtime;
   return p;
@@ -71,16 +79,20 @@ Param<O> text(const char* name, const char* group, Ref ref, bool in_file, const 
 
 // A parameter that is no field of its own type (an enum as a switch).
 template <class O, class Get, class Set>
-Param<O> computed(const char* name, const char* group, Type type, bool runtime, const char* doc, Get get, Set set) {
+Param<O> computed(const char* name, const char* group, Type type, bool runtime, const char* doc,
+                  Get get, Set set) {
   Param<O> p;
   p.name = name, p.group = group, p.type = type, p.runtime = runtime, p.doc = doc;
   p.get = get, p.set = set;
   return p;
 }
 
-#define PIPE(field) [](TrackerParameters& t) -> auto& { return t.pipeline.field; }
-#define NODE(field) [](TrackerParameters& t) -> auto& { return t.node.field; }
-#define DET(field) [](DetectorParameters& d) -> auto& { return d.field; }
+#define PIPE(field) \
+  [](TrackerParameters & t) -> auto& { return t.pipeline.field; }
+#define NODE(field) \
+  [](TrackerParameters & t) -> auto& { return t.node.field; }
+#define DET(field) \
+  [](DetectorParameters & d) -> auto& { return d.field; }
 
 constexpr const char* kNode = "node";
 constexpr const char* kAssociation = "association";
@@ -96,26 +108,32 @@ constexpr const char* kDetection = "detection";
 using T = TrackerParameters;
 using D = DetectorParameters;
 
-Schema<T> makeTrackerSchema() {
-  Schema<T> s = {
-      text<T>("map_frame", kNode, NODE(map_frame), true, "the map frame: tracks, static map, published poses"),
-      text<T>("odom_frame", kNode, NODE(odom_frame), true, "the odometry frame; the tracker corrects map to odom"),
+Schema<T> nodeParams() {
+  return {
+      text<T>("map_frame", kNode, NODE(map_frame), true,
+              "the map frame: tracks, static map, published poses"),
+      text<T>("odom_frame", kNode, NODE(odom_frame), true,
+              "the odometry frame; the tracker corrects map to odom"),
       text<T>("base_frame", kNode, NODE(base_frame), true, "the robot base frame"),
       flag<T>("publish_map_odom", kNode, NODE(publish_map_odom), kStart,
               "broadcast the map to odom correction of the localization"),
-      flag<T>("publish_object_tf", kNode, NODE(publish_object_tf), kStart, "broadcast map to track id per object"),
+      flag<T>("publish_object_tf", kNode, NODE(publish_object_tf), kStart,
+              "broadcast map to track id per object"),
       number<T>("hypothesis_max_age", kNode, NODE(hypothesis_max_age), 0.0, 10.0, "s", kStart,
                 "the hypothesis array closest to a depth image within this is used with it"),
       text<T>("static_map", kNode, NODE(static_map), false,
               "the static world as a mesh or URDF file, required (tracker.launch static_map)"),
       text<T>("furniture", kNode, NODE(furniture), false,
-              "named boxes for relations, e.g. tables (relations/furniture.hpp; tracker.launch furniture)"),
-      text<T>("catalog", kNode, NODE(catalog), false, "object catalog YAML (tracker.launch catalog)"),
+              "named boxes for relations, e.g. tables (relations/furniture.hpp; tracker.launch "
+              "furniture)"),
+      text<T>("catalog", kNode, NODE(catalog), false,
+              "object catalog YAML (tracker.launch catalog)"),
       text<T>("mesh_dir", kNode, NODE(mesh_dir), false,
               "another mesh directory for the catalog classes (tracker.launch mesh_dir)"),
       number<T>("lidar/columns", kNode, NODE(lidar.columns), 1, 100000, "", kStart,
                 "LiDAR: columns (firings) over one turn of an organized cloud"),
-      number<T>("lidar/rings", kNode, NODE(lidar.rings), 1, 1024, "", kStart, "LiDAR: rings (rows) of the cloud"),
+      number<T>("lidar/rings", kNode, NODE(lidar.rings), 1, 1024, "", kStart,
+                "LiDAR: rings (rows) of the cloud"),
       number<T>("lidar/min_elevation", kNode, NODE(lidar.phi_min), -1.5708, 1.5708, "rad", kStart,
                 "LiDAR: elevation of the lowest ring"),
       number<T>("lidar/max_elevation", kNode, NODE(lidar.phi_max), -1.5708, 1.5708, "rad", kStart,
@@ -124,153 +142,219 @@ Schema<T> makeTrackerSchema() {
                 "LiDAR: shorter returns are no measurement"),
       number<T>("lidar/range_max", kNode, NODE(lidar.range_max), 0.0, 1000.0, "m", kStart,
                 "LiDAR: longer returns are no measurement"),
+  };
+}
 
-      number<T>("min_hypothesis_score", kAssociation, PIPE(min_hypothesis_score), 0.0, 1.0, "", kRuntime,
-                "hypotheses with a lower score are ignored"),
-      number<T>("association_distance", kAssociation, PIPE(association_distance), 0.01, 2.0, "m", kRuntime,
-                "hypothesis to the predicted position of a track of its class"),
-      number<T>("reacquire_distance", kAssociation, PIPE(reacquire_distance), 0.01, 5.0, "m", kRuntime,
-                "the same for tracks that are not currently refined well"),
+Schema<T> associationParams() {
+  return {
+      number<T>("min_hypothesis_score", kAssociation, PIPE(min_hypothesis_score), 0.0, 1.0, "",
+                kRuntime, "hypotheses with a lower score are ignored"),
+      number<T>("association_distance", kAssociation, PIPE(association_distance), 0.01, 2.0, "m",
+                kRuntime, "hypothesis to the predicted position of a track of its class"),
+      number<T>("reacquire_distance", kAssociation, PIPE(reacquire_distance), 0.01, 5.0, "m",
+                kRuntime, "the same for tracks that are not currently refined well"),
       flag<T>("contest_restarts", kAssociation, PIPE(contest_restarts), kRuntime,
-              "a detection restarts a lost track only if the measurements support it better than the track pose"),
-      number<T>("lost_track_max_jump_m", kAssociation, PIPE(lost_track_max_jump_m), 0.0, 1.0, "m", kRuntime,
-                "a lost track ignores fits farther than this from where it was lost, until a hypothesis restarts it"),
-      number<T>("lost_track_resume_inlier_ratio", kAssociation, PIPE(lost_track_resume_inlier_ratio), 0.0, 1.0, "",
-                kRuntime, "... and fits explaining less than this share of the rays that reach it"),
+              "a detection restarts a lost track only if the measurements support it better than "
+              "the track pose"),
+      number<T>("lost_track_max_jump_m", kAssociation, PIPE(lost_track_max_jump_m), 0.0, 1.0, "m",
+                kRuntime,
+                "a lost track ignores fits farther than this from where it was lost, until a "
+                "hypothesis restarts it"),
+      number<T>("lost_track_resume_inlier_ratio", kAssociation,
+                PIPE(lost_track_resume_inlier_ratio), 0.0, 1.0, "", kRuntime,
+                "... and fits explaining less than this share of the rays that reach it"),
+  };
+}
 
+Schema<T> confirmationParams() {
+  return {
       number<T>("confirm_hits", kConfirmation, PIPE(confirm_hits), 1, 100, "", kRuntime,
                 "good refinements that confirm a tentative track ..."),
       number<T>("confirm_detections", kConfirmation, PIPE(confirm_detections), 1, 100, "", kRuntime,
                 "... and detections associated with it (the one that started it counts)"),
-      number<T>("confirm_inlier_ratio", kConfirmation, PIPE(confirm_inlier_ratio), 0.0, 1.0, "", kRuntime,
-                "... and whose fits explain at least this share of their rays"),
-      number<T>("min_weak_fit_inliers", kConfirmation, PIPE(min_weak_fit_inliers), 0, 1000, "", kRuntime,
-                "a tentative track fit from fewer points than refine/min_points still places the track from this many"),
-      number<T>("fit_support_weight", kConfirmation, PIPE(fit_support_weight), 0.0, 1.0, "", kRuntime,
-                "weight per frame of the running mean of the inlier ratios of good fits (fit support)"),
+      number<T>("confirm_inlier_ratio", kConfirmation, PIPE(confirm_inlier_ratio), 0.0, 1.0, "",
+                kRuntime, "... and whose fits explain at least this share of their rays"),
+      number<T>("min_weak_fit_inliers", kConfirmation, PIPE(min_weak_fit_inliers), 0, 1000, "",
+                kRuntime,
+                "a tentative track fit from fewer points than refine/min_points still places the "
+                "track from this many"),
+      number<T>(
+          "fit_support_weight", kConfirmation, PIPE(fit_support_weight), 0.0, 1.0, "", kRuntime,
+          "weight per frame of the running mean of the inlier ratios of good fits (fit support)"),
       number<T>("min_fit_support", kConfirmation, PIPE(min_fit_support), 0.0, 1.0, "", kRuntime,
-                "fit support that confirms a track; below it a confirmed track collects evidence of absence"),
+                "fit support that confirms a track; below it a confirmed track collects evidence "
+                "of absence"),
+  };
+}
 
+Schema<T> removalParams() {
+  return {
       number<T>("remove_after", kRemoval, PIPE(remove_after_s), 0.1, 30.0, "s", kRuntime,
-                "evidence of absence (rays reach where it should be and find something behind) for this long removes a track"),
-      number<T>("remove_tentative_after_s", kRemoval, PIPE(remove_tentative_after_s), 0.0, 30.0, "s", kRuntime,
-                "the same for a tentative track"),
-      number<T>("tentative_timeout_s", kRemoval, PIPE(tentative_timeout_s), 0.0, 30.0, "s", kRuntime,
-                "a tentative track without a hypothesis for this long goes"),
+                "evidence of absence (rays reach where it should be and find something behind) for "
+                "this long removes a track"),
+      number<T>("remove_tentative_after_s", kRemoval, PIPE(remove_tentative_after_s), 0.0, 30.0,
+                "s", kRuntime, "the same for a tentative track"),
+      number<T>("tentative_timeout_s", kRemoval, PIPE(tentative_timeout_s), 0.0, 30.0, "s",
+                kRuntime, "a tentative track without a hypothesis for this long goes"),
       number<T>("max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
-                "share of a model surface deeper than sink_tolerance_m inside the static map that removes the track "
+                "share of a model surface deeper than sink_tolerance_m inside the static map that "
+                "removes the track "
                 "(1: off; needs an outward-wound map)"),
       number<T>("sink_tolerance_m", kRemoval, PIPE(sink_tolerance_m), 0.0, 0.5, "m", kRuntime,
                 "depth behind the map surface that counts as sunk"),
-      number<T>("max_hidden_fraction_for_absence", kRemoval, PIPE(max_hidden_fraction_for_absence), 0.0, 1.0, "",
-                kRuntime, "when other tracks hide more of the rays reaching a track, the rest are no evidence of absence"),
+      number<T>("max_hidden_fraction_for_absence", kRemoval, PIPE(max_hidden_fraction_for_absence),
+                0.0, 1.0, "", kRuntime,
+                "when other tracks hide more of the rays reaching a track, the rest are no "
+                "evidence of absence"),
+  };
+}
 
+Schema<T> filterParams() {
+  return {
       number<T>("motion/accel", kFilter, PIPE(motion.accel), 0.0, 100.0, "m/s^2", kRuntime,
                 "white-noise acceleration of the constant-velocity model (new tracks)"),
-      number<T>("motion/angular_accel", kFilter, PIPE(motion.angular_accel), 0.0, 100.0, "rad/s^2", kRuntime,
-                "white-noise angular acceleration (new tracks)"),
-      number<T>("motion/initial_velocity", kFilter, PIPE(motion.initial_velocity), 0.0, 100.0, "m/s", kRuntime,
-                "1 sigma of the unknown velocity of a new track"),
-      number<T>("motion/initial_angular_velocity", kFilter, PIPE(motion.initial_angular_velocity), 0.0, 100.0,
-                "rad/s", kRuntime, "1 sigma of the unknown angular velocity of a new track"),
-      number<T>("motion/coast_decay_s", kFilter, PIPE(motion.coast_decay_s), 0.0, 10.0, "s", kRuntime,
-                "time constant with which the velocities of a coasting track decay (0: they do not)"),
+      number<T>("motion/angular_accel", kFilter, PIPE(motion.angular_accel), 0.0, 100.0, "rad/s^2",
+                kRuntime, "white-noise angular acceleration (new tracks)"),
+      number<T>("motion/initial_velocity", kFilter, PIPE(motion.initial_velocity), 0.0, 100.0,
+                "m/s", kRuntime, "1 sigma of the unknown velocity of a new track"),
+      number<T>("motion/initial_angular_velocity", kFilter, PIPE(motion.initial_angular_velocity),
+                0.0, 100.0, "rad/s", kRuntime,
+                "1 sigma of the unknown angular velocity of a new track"),
+      number<T>(
+          "motion/coast_decay_s", kFilter, PIPE(motion.coast_decay_s), 0.0, 10.0, "s", kRuntime,
+          "time constant with which the velocities of a coasting track decay (0: they do not)"),
       number<T>("refined_sigma_m", kFilter, PIPE(refined_sigma_m), 1e-5, 1.0, "m", kRuntime,
                 "noise of a refined pose, translation"),
       number<T>("refined_sigma_rad", kFilter, PIPE(refined_sigma_rad), 1e-5, 1.0, "rad", kRuntime,
                 "noise of a refined pose, rotation"),
       number<T>("hypothesis_sigma_m", kFilter, PIPE(hypothesis_sigma_m), 1e-5, 1.0, "m", kRuntime,
                 "noise of a detection, translation"),
-      number<T>("hypothesis_sigma_rad", kFilter, PIPE(hypothesis_sigma_rad), 1e-5, 3.2, "rad", kRuntime,
-                "noise of a detection, rotation"),
+      number<T>("hypothesis_sigma_rad", kFilter, PIPE(hypothesis_sigma_rad), 1e-5, 3.2, "rad",
+                kRuntime, "noise of a detection, rotation"),
       number<T>("well_seen_points", kFilter, PIPE(well_seen_points), 1, 100000, "", kRuntime,
                 "refinements with fewer inliers count as weaker measurements"),
       number<T>("far_fit_from_m", kFilter, PIPE(far_fit_from_m), 0.0, 100.0, "m", kRuntime,
-                "fits of objects farther from the sensor count as weaker, covariance x (range / this)^4 (0: off)"),
+                "fits of objects farther from the sensor count as weaker, covariance x (range / "
+                "this)^4 (0: off)"),
+  };
+}
 
-      number<T>("refine/rounds", kRefinement, PIPE(refiner.rounds), 1, 30, "", kRuntime, "ray-casting rounds per frame"),
-      number<T>("refine/steps", kRefinement, PIPE(refiner.steps), 1, 20, "", kRuntime, "alignment steps per round"),
-      number<T>("refine/max_dist_first", kRefinement, PIPE(refiner.max_dist_first), 0.005, 0.5, "m", kRuntime,
-                "correspondence threshold of the first round ..."),
-      number<T>("refine/max_dist_last", kRefinement, PIPE(refiner.max_dist_last), 0.002, 0.2, "m", kRuntime,
-                "... shrinking to this in the last"),
+Schema<T> refinementParams() {
+  return {
+      number<T>("refine/rounds", kRefinement, PIPE(refiner.rounds), 1, 30, "", kRuntime,
+                "ray-casting rounds per frame"),
+      number<T>("refine/steps", kRefinement, PIPE(refiner.steps), 1, 20, "", kRuntime,
+                "alignment steps per round"),
+      number<T>("refine/max_dist_first", kRefinement, PIPE(refiner.max_dist_first), 0.005, 0.5, "m",
+                kRuntime, "correspondence threshold of the first round ..."),
+      number<T>("refine/max_dist_last", kRefinement, PIPE(refiner.max_dist_last), 0.002, 0.2, "m",
+                kRuntime, "... shrinking to this in the last"),
       number<T>("refine/roi_margin", kRefinement, PIPE(refiner.roi_margin), 0.0, 0.5, "m", kRuntime,
                 "object boxes grow by this much when picking the rays to cast"),
       number<T>("refine/ray_stride", kRefinement, PIPE(refiner.ray_stride), 1, 16, "", kRuntime,
                 "every ray_stride-th depth pixel in x and y"),
-      number<T>("refine/pull_radius", kRefinement, PIPE(refiner.pull_radius), 0.0, 0.5, "m", kRuntime,
+      number<T>("refine/pull_radius", kRefinement, PIPE(refiner.pull_radius), 0.0, 0.5, "m",
+                kRuntime,
                 "unexplained measurements this close to an object pull it towards them (0: off)"),
-      number<T>("refine/pull_front_margin", kRefinement, PIPE(refiner.pull_front_margin), 0.0, 0.5, "m", kRuntime,
+      number<T>("refine/pull_front_margin", kRefinement, PIPE(refiner.pull_front_margin), 0.0, 0.5,
+                "m", kRuntime,
                 "... when they lie more than this in front of its predicted surface"),
-      number<T>("refine/pull_point_to_point_rounds", kRefinement, PIPE(refiner.pull_point_to_point_rounds), 0, 30, "",
-                kRuntime, "first rounds in which pulls are point-to-point terms (then point-to-plane)"),
-      number<T>("refine/min_inlier_ratio", kRefinement, PIPE(refiner.min_inlier_ratio), 0.0, 1.0, "", kRuntime,
-                "a fit explaining less of the rays reaching the object counts as a false hypothesis"),
-      number<T>("refine/min_points", kRefinement, PIPE(refiner.alignment.min_points), 3, 100000, "", kRuntime,
-                "fewest inliers of a fit"),
+      number<T>("refine/pull_point_to_point_rounds", kRefinement,
+                PIPE(refiner.pull_point_to_point_rounds), 0, 30, "", kRuntime,
+                "first rounds in which pulls are point-to-point terms (then point-to-plane)"),
+      number<T>(
+          "refine/min_inlier_ratio", kRefinement, PIPE(refiner.min_inlier_ratio), 0.0, 1.0, "",
+          kRuntime,
+          "a fit explaining less of the rays reaching the object counts as a false hypothesis"),
+      number<T>("refine/min_points", kRefinement, PIPE(refiner.alignment.min_points), 3, 100000, "",
+                kRuntime, "fewest inliers of a fit"),
       flag<T>("refine_with_lidar", kRefinement, PIPE(refine_with_lidar), kRuntime,
               "refine from LiDAR returns too when the frame has a depth image"),
       flag<T>("search_orientations", kRefinement, PIPE(search_orientations), kRuntime,
-              "a confirmed or restarting track tries the 24 axis turns of its box (tracker.launch sets it to "
+              "a confirmed or restarting track tries the 24 axis turns of its box (tracker.launch "
+              "sets it to "
               "detector, evaluate --detector turns it on)"),
-      number<T>("max_orientation_searches", kRefinement, PIPE(max_orientation_searches), 0, 100, "", kRuntime,
-                "orientation searches per frame (others wait a frame)"),
-      number<T>("orientation_search_interval_s", kRefinement, PIPE(orientation_search_interval_s), 0.0, 3600.0, "s",
-                kRuntime, "a track is searched again no sooner than this"),
-      number<T>("research_below_fit_support", kRefinement, PIPE(research_below_fit_support), 0.0, 1.0, "", kRuntime,
+      number<T>("max_orientation_searches", kRefinement, PIPE(max_orientation_searches), 0, 100, "",
+                kRuntime, "orientation searches per frame (others wait a frame)"),
+      number<T>("orientation_search_interval_s", kRefinement, PIPE(orientation_search_interval_s),
+                0.0, 3600.0, "s", kRuntime, "a track is searched again no sooner than this"),
+      number<T>("research_below_fit_support", kRefinement, PIPE(research_below_fit_support), 0.0,
+                1.0, "", kRuntime,
                 "a confirmed track whose fit support stays below this is searched again (0: off)"),
-      number<T>("orientation_refine/rounds", kRefinement, PIPE(orientation_refiner.rounds), 1, 30, "", kRuntime,
-                "ray-casting rounds per candidate of a search or restart contest"),
-      number<T>("orientation_refine/steps", kRefinement, PIPE(orientation_refiner.steps), 1, 20, "", kRuntime,
-                "alignment steps per round"),
-      number<T>("orientation_refine/max_dist_first", kRefinement, PIPE(orientation_refiner.max_dist_first), 0.005, 0.5,
-                "m", kRuntime, "correspondence threshold of the first round ..."),
-      number<T>("orientation_refine/max_dist_last", kRefinement, PIPE(orientation_refiner.max_dist_last), 0.002, 0.2,
-                "m", kRuntime, "... shrinking to this in the last"),
-      number<T>("orientation_refine/ray_stride", kRefinement, PIPE(orientation_refiner.ray_stride), 1, 16, "", kRuntime,
-                "every ray_stride-th depth pixel in x and y"),
+      number<T>("orientation_refine/rounds", kRefinement, PIPE(orientation_refiner.rounds), 1, 30,
+                "", kRuntime, "ray-casting rounds per candidate of a search or restart contest"),
+      number<T>("orientation_refine/steps", kRefinement, PIPE(orientation_refiner.steps), 1, 20, "",
+                kRuntime, "alignment steps per round"),
+      number<T>("orientation_refine/max_dist_first", kRefinement,
+                PIPE(orientation_refiner.max_dist_first), 0.005, 0.5, "m", kRuntime,
+                "correspondence threshold of the first round ..."),
+      number<T>("orientation_refine/max_dist_last", kRefinement,
+                PIPE(orientation_refiner.max_dist_last), 0.002, 0.2, "m", kRuntime,
+                "... shrinking to this in the last"),
+      number<T>("orientation_refine/ray_stride", kRefinement, PIPE(orientation_refiner.ray_stride),
+                1, 16, "", kRuntime, "every ray_stride-th depth pixel in x and y"),
+  };
+}
 
+Schema<T> localizationParams() {
+  return {
       flag<T>("localize", kLocalization, PIPE(localize), kRuntime,
               "correct the robot pose against the static map (needs the LiDAR)"),
-      flag<T>("localize_with_lidar_only", kLocalization, PIPE(localize_with_lidar_only), kRuntime,
-              "localize from LiDAR scans only (depth images near a bench add little but cost rays)"),
+      flag<T>(
+          "localize_with_lidar_only", kLocalization, PIPE(localize_with_lidar_only), kRuntime,
+          "localize from LiDAR scans only (depth images near a bench add little but cost rays)"),
       flag<T>("localize_against_objects", kLocalization, PIPE(localize_against_objects), kRuntime,
               "tracked objects explain points while the robot localizes"),
       number<T>("localizer/rounds", kLocalization, PIPE(localizer.rounds), 1, 100, "", kRuntime,
                 "ray-casting rounds per frame"),
-      number<T>("localizer/steps", kLocalization, PIPE(localizer.steps), 1, 20, "", kRuntime, "alignment steps per round"),
-      number<T>("localizer/max_dist_start", kLocalization, PIPE(localizer.max_dist_start), 0.01, 5.0, "m", kRuntime,
-                "correspondence threshold of the first round"),
-      number<T>("localizer/max_dist_min", kLocalization, PIPE(localizer.max_dist_min), 0.001, 1.0, "m", kRuntime,
-                "the adaptive threshold never goes below this"),
-      number<T>("localizer/residual_factor", kLocalization, PIPE(localizer.residual_factor), 0.5, 20.0, "", kRuntime,
-                "next threshold: this times the robust sigma of the residuals"),
-      number<T>("localizer/image_stride", kLocalization, PIPE(localizer.image_stride), 1, 64, "", kRuntime,
-                "every image_stride-th depth pixel in x and y"),
-      number<T>("localizer/scan_stride", kLocalization, PIPE(localizer.scan_stride), 1, 64, "", kRuntime,
-                "every scan_stride-th LiDAR column and ring"),
-      number<T>("localizer/min_inliers", kLocalization, PIPE(localizer.min_inliers), 1, 1000000, "", kRuntime,
-                "fewer inliers keep the prior"),
-      number<T>("localizer/min_inlier_ratio", kLocalization, PIPE(localizer.min_inlier_ratio), 0.0, 1.0, "", kRuntime,
+      number<T>("localizer/steps", kLocalization, PIPE(localizer.steps), 1, 20, "", kRuntime,
+                "alignment steps per round"),
+      number<T>("localizer/max_dist_start", kLocalization, PIPE(localizer.max_dist_start), 0.01,
+                5.0, "m", kRuntime, "correspondence threshold of the first round"),
+      number<T>("localizer/max_dist_min", kLocalization, PIPE(localizer.max_dist_min), 0.001, 1.0,
+                "m", kRuntime, "the adaptive threshold never goes below this"),
+      number<T>("localizer/residual_factor", kLocalization, PIPE(localizer.residual_factor), 0.5,
+                20.0, "", kRuntime, "next threshold: this times the robust sigma of the residuals"),
+      number<T>("localizer/image_stride", kLocalization, PIPE(localizer.image_stride), 1, 64, "",
+                kRuntime, "every image_stride-th depth pixel in x and y"),
+      number<T>("localizer/scan_stride", kLocalization, PIPE(localizer.scan_stride), 1, 64, "",
+                kRuntime, "every scan_stride-th LiDAR column and ring"),
+      number<T>("localizer/min_inliers", kLocalization, PIPE(localizer.min_inliers), 1, 1000000, "",
+                kRuntime, "fewer inliers keep the prior"),
+      number<T>("localizer/min_inlier_ratio", kLocalization, PIPE(localizer.min_inlier_ratio), 0.0,
+                1.0, "", kRuntime,
                 "inliers per valid measurement whose ray hits the map, below it the prior is kept"),
-      number<T>("localizer/converged_translation", kLocalization, PIPE(localizer.converged_translation), 0.0, 1.0, "m",
-                kRuntime, "a round that moves less (and less than converged_rotation) ends the search"),
-      number<T>("localizer/converged_rotation", kLocalization, PIPE(localizer.converged_rotation), 0.0, 1.0, "rad",
-                kRuntime, "see converged_translation"),
+      number<T>("localizer/converged_translation", kLocalization,
+                PIPE(localizer.converged_translation), 0.0, 1.0, "m", kRuntime,
+                "a round that moves less (and less than converged_rotation) ends the search"),
+      number<T>("localizer/converged_rotation", kLocalization, PIPE(localizer.converged_rotation),
+                0.0, 1.0, "rad", kRuntime, "see converged_translation"),
       flag<T>("localizer/planar", kLocalization, PIPE(localizer.planar), kRuntime,
               "correct x, y and yaw only (a ground robot)"),
+  };
+}
 
+Schema<T> presegmentationParams() {
+  return {
       flag<T>("presegment", kPresegmentation, PIPE(run_presegmentation), kRuntime,
               "label every measurement; unknown points on ~unassigned_points"),
-      number<T>("presegmentation/sigma_factor", kPresegmentation, PIPE(presegmentation.sigma_factor), 0.5, 20.0, "",
-                kRuntime, "a measurement agrees with the predicted surface within this many noise sigmas ..."),
-      number<T>("presegmentation/min_tolerance", kPresegmentation, PIPE(presegmentation.min_tolerance), 0.0, 1.0, "m",
-                kRuntime, "... and never less than this (map and mesh error)"),
-      number<T>("presegmentation/depth_sigma_at_1m", kPresegmentation, PIPE(presegmentation.depth_sigma_at_1m), 0.0,
-                0.1, "m", kRuntime, "depth image noise at 1 m, growing with range squared"),
-      number<T>("presegmentation/range_sigma", kPresegmentation, PIPE(presegmentation.range_sigma), 0.0, 1.0, "m",
-                kRuntime, "LiDAR range noise"),
+      number<T>(
+          "presegmentation/sigma_factor", kPresegmentation, PIPE(presegmentation.sigma_factor), 0.5,
+          20.0, "", kRuntime,
+          "a measurement agrees with the predicted surface within this many noise sigmas ..."),
+      number<T>("presegmentation/min_tolerance", kPresegmentation,
+                PIPE(presegmentation.min_tolerance), 0.0, 1.0, "m", kRuntime,
+                "... and never less than this (map and mesh error)"),
+      number<T>("presegmentation/depth_sigma_at_1m", kPresegmentation,
+                PIPE(presegmentation.depth_sigma_at_1m), 0.0, 0.1, "m", kRuntime,
+                "depth image noise at 1 m, growing with range squared"),
+      number<T>("presegmentation/range_sigma", kPresegmentation, PIPE(presegmentation.range_sigma),
+                0.0, 1.0, "m", kRuntime, "LiDAR range noise"),
+  };
+}
 
+Schema<T> relationsParams() {
+  return {
       flag<T>("relations/enabled", kRelations, PIPE(compute_relations), kStart,
               "relations among confirmed tracks and the workbench, edges on ~scene_graph"),
       flag<T>("relations/reparent", kRelations, PIPE(reparent), kStart,
@@ -280,47 +364,66 @@ Schema<T> makeTrackerSchema() {
       computed<T>(
           "relations/relaxed", kRelations, Type::kBool, kRuntime,
           "directions: relaxed (halfspace intersects) instead of strict (projection contains)",
-          [](const T& t) -> Value { return t.pipeline.relation_options.directional_mode == relations::Mode::Relaxed; },
+          [](const T& t) -> Value {
+            return t.pipeline.relation_options.directional_mode == relations::Mode::Relaxed;
+          },
           [](T& t, const Value& v) {
             t.pipeline.relation_options.directional_mode =
                 std::get<bool>(v) ? relations::Mode::Relaxed : relations::Mode::Strict;
           }),
-      flag<T>("relations/camera_relative", kRelations, PIPE(relation_options.camera_relative), kRuntime,
-              "directions from the point of view of the camera instead of the frame of the reference"),
-      number<T>("relations/appear_frames", kRelations, PIPE(relation_hysteresis.appear_frames), 1, 1000, "", kRuntime,
-                "an edge shows after holding this many frames in a row ..."),
-      number<T>("relations/disappear_frames", kRelations, PIPE(relation_hysteresis.disappear_frames), 1, 1000, "",
-                kRuntime, "... and goes after failing this many"),
-      number<T>("relations/min_support", kRelations, PIPE(relation_options.min_support), 0.0, 1.0, "", kRuntime,
-                "share of the support rays that makes rests on"),
-      number<T>("relations/on_max_distance", kRelations, PIPE(relation_options.box.on_max_distance), 0.0, 1.0, "m",
-                kRuntime, "on: the boxes are less than this apart"),
-      number<T>("relations/box_tolerance", kRelations, PIPE(relation_options.box.tolerance), 0.0, 1.0, "m", kRuntime,
+      flag<T>(
+          "relations/camera_relative", kRelations, PIPE(relation_options.camera_relative), kRuntime,
+          "directions from the point of view of the camera instead of the frame of the reference"),
+      number<T>("relations/appear_frames", kRelations, PIPE(relation_hysteresis.appear_frames), 1,
+                1000, "", kRuntime, "an edge shows after holding this many frames in a row ..."),
+      number<T>("relations/disappear_frames", kRelations,
+                PIPE(relation_hysteresis.disappear_frames), 1, 1000, "", kRuntime,
+                "... and goes after failing this many"),
+      number<T>("relations/min_support", kRelations, PIPE(relation_options.min_support), 0.0, 1.0,
+                "", kRuntime, "share of the support rays that makes rests on"),
+      number<T>("relations/on_max_distance", kRelations, PIPE(relation_options.box.on_max_distance),
+                0.0, 1.0, "m", kRuntime, "on: the boxes are less than this apart"),
+      number<T>("relations/box_tolerance", kRelations, PIPE(relation_options.box.tolerance), 0.0,
+                1.0, "m", kRuntime,
                 "box corners may lie this far outside a box that must contain them"),
-      number<T>("relations/extrusion_factor", kRelations, PIPE(relation_options.box.factor), 0.1, 100.0, "", kRuntime,
+      number<T>("relations/extrusion_factor", kRelations, PIPE(relation_options.box.factor), 0.1,
+                100.0, "", kRuntime,
                 "projections and halfspaces reach this many box extents (SEMAP)"),
   };
+}
+
+Schema<T> makeTrackerSchema() {
+  Schema<T> s;
+  for (Schema<T> group :
+       {nodeParams(), associationParams(), confirmationParams(), removalParams(), filterParams(),
+        refinementParams(), localizationParams(), presegmentationParams(), relationsParams()})
+    s.insert(s.end(), group.begin(), group.end());
   return s;
 }
 
 Schema<D> makeDetectorSchema() {
   return {
       number<D>("score_threshold", kDetection, DET(decode.score_threshold), 0.0, 1.0, "", kStart,
-                "class score of a detection (after sigmoid); per-class thresholds of the model may raise it"),
-      number<D>("nms_iou", kDetection, DET(decode.nms_iou), 0.0, 1.0, "", kStart, "class-aware non-maximum suppression"),
-      number<D>("max_detections", kDetection, DET(decode.max_detections), 1, 10000, "", kStart, "per image"),
+                "class score of a detection (after sigmoid); per-class thresholds of the model may "
+                "raise it"),
+      number<D>("nms_iou", kDetection, DET(decode.nms_iou), 0.0, 1.0, "", kStart,
+                "class-aware non-maximum suppression"),
+      number<D>("max_detections", kDetection, DET(decode.max_detections), 1, 10000, "", kStart,
+                "per image"),
       number<D>("min_visibility", kDetection, DET(pnp.min_visibility), 0.0, 1.0, "", kStart,
                 "keypoints below this visibility are not used by PnP"),
-      number<D>("max_reprojection_px", kDetection, DET(pnp.max_reprojection_px), 0.0, 1000.0, "px", kStart,
-                "RMS; PnP solutions above are rejected"),
+      number<D>("max_reprojection_px", kDetection, DET(pnp.max_reprojection_px), 0.0, 1000.0, "px",
+                kStart, "RMS; PnP solutions above are rejected"),
       number<D>("min_depth", kDetection, DET(pnp.min_depth), 0.0, 100.0, "m", kStart,
                 "the object centre must be at least this far in front of the camera"),
       flag<D>("use_depth", kDetection, DET(use_depth), kStart,
               "distance of each pose from the registered depth image (topic depth)"),
       number<D>("depth_max_offset", kDetection, DET(depth_max_offset), 0.0, 1.0, "s", kStart,
                 "the depth image closest in time to the RGB image, at most this far"),
-      text<D>("model", kDetection, DET(model), false, "metadata YAML beside the ONNX model (tracker.launch detector_model)"),
-      text<D>("catalog", kDetection, DET(catalog), false, "object catalog YAML (tracker.launch catalog)"),
+      text<D>("model", kDetection, DET(model), false,
+              "metadata YAML beside the ONNX model (tracker.launch detector_model)"),
+      text<D>("catalog", kDetection, DET(catalog), false,
+              "object catalog YAML (tracker.launch catalog)"),
       text<D>("mesh_dir", kDetection, DET(mesh_dir), false,
               "another mesh directory for the catalog classes (tracker.launch mesh_dir)"),
   };
@@ -334,10 +437,14 @@ std::string describe(const Value& v) {
   return std::visit(
       [](const auto& x) -> std::string {
         using X = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<X, bool>) return x ? "true" : "false";
-        else if constexpr (std::is_same_v<X, int>) return std::to_string(x);
-        else if constexpr (std::is_same_v<X, double>) return formatNumber(x, false);
-        else return "'" + x + "'";
+        if constexpr (std::is_same_v<X, bool>)
+          return x ? "true" : "false";
+        else if constexpr (std::is_same_v<X, int>)
+          return std::to_string(x);
+        else if constexpr (std::is_same_v<X, double>)
+          return formatNumber(x, false);
+        else
+          return "'" + x + "'";
       },
       v);
 }
@@ -346,23 +453,30 @@ template <class O>
 Value parseScalar(const Param<O>& p, const YAML::Node& n) {
   try {
     switch (p.type) {
-      case Type::kBool: return n.as<bool>();
-      case Type::kInt: return n.as<int>();
-      case Type::kDouble: return n.as<double>();
-      case Type::kString: return n.as<std::string>();
+      case Type::kBool:
+        return n.as<bool>();
+      case Type::kInt:
+        return n.as<int>();
+      case Type::kDouble:
+        return n.as<double>();
+      case Type::kString:
+        return n.as<std::string>();
     }
   } catch (const YAML::Exception&) {
   }
-  throw ParameterError(p.name + ": '" + n.Scalar() + "' is not " + (p.type == Type::kInt ? "an " : "a ") +
-                       toString(p.type));
+  throw ParameterError(p.name + ": '" + n.Scalar() + "' is not " +
+                       (p.type == Type::kInt ? "an " : "a ") + toString(p.type));
 }
 
 // Scalars of a YAML map with '/'-separated names.
-void flatten(const YAML::Node& n, const std::string& prefix, std::vector<std::pair<std::string, YAML::Node>>& out) {
+void flatten(const YAML::Node& n, const std::string& prefix,
+             std::vector<std::pair<std::string, YAML::Node>>& out) {
   for (const auto& kv : n) {
     const std::string name = (prefix.empty() ? "" : prefix + "/") + kv.first.as<std::string>();
-    if (kv.second.IsMap()) flatten(kv.second, name, out);
-    else out.emplace_back(name, kv.second);
+    if (kv.second.IsMap())
+      flatten(kv.second, name, out);
+    else
+      out.emplace_back(name, kv.second);
   }
 }
 
@@ -370,10 +484,14 @@ void flatten(const YAML::Node& n, const std::string& prefix, std::vector<std::pa
 
 const char* toString(Type t) {
   switch (t) {
-    case Type::kBool: return "bool";
-    case Type::kInt: return "int";
-    case Type::kDouble: return "double";
-    case Type::kString: return "string";
+    case Type::kBool:
+      return "bool";
+    case Type::kInt:
+      return "int";
+    case Type::kDouble:
+      return "double";
+    case Type::kString:
+      return "string";
   }
   return "?";
 }
@@ -416,19 +534,22 @@ void set(const Schema<O>& schema, O& options, const std::string& name, const Val
   const Param<O>* p = find(schema, name);
   if (!p) throw ParameterError(name + ": no such parameter");
   Value v = value;
-  if (p->type == Type::kDouble && std::holds_alternative<int>(v)) v = static_cast<double>(std::get<int>(v));
+  if (p->type == Type::kDouble && std::holds_alternative<int>(v))
+    v = static_cast<double>(std::get<int>(v));
   if (static_cast<Type>(v.index()) != p->type)  // Value's alternatives are in the order of Type
-    throw ParameterError(name + ": " + describe(value) + " is not " + (p->type == Type::kInt ? "an " : "a ") +
-                         toString(p->type));
+    throw ParameterError(name + ": " + describe(value) + " is not " +
+                         (p->type == Type::kInt ? "an " : "a ") + toString(p->type));
   if (p->type == Type::kInt || p->type == Type::kDouble) {
     const double x = p->type == Type::kInt ? std::get<int>(v) : std::get<double>(v);
-    if (!(x >= p->min && x <= p->max)) throw ParameterError(name + ": " + describe(value) + " is outside " + range(*p));
+    if (!(x >= p->min && x <= p->max))
+      throw ParameterError(name + ": " + describe(value) + " is outside " + range(*p));
   }
   p->set(options, v);
 }
 
 template <class O>
-void applyYaml(const Schema<O>& schema, O& options, const std::string& text, const std::string& origin) {
+void applyYaml(const Schema<O>& schema, O& options, const std::string& text,
+               const std::string& origin) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -469,8 +590,10 @@ std::string reconfigureName(const std::string& name) {
 
 template <class O>
 std::string range(const Param<O>& p) {
-  if (p.type == Type::kInt) return "[" + std::to_string(int(p.min)) + ", " + std::to_string(int(p.max)) + "]";
-  if (p.type == Type::kDouble) return "[" + formatNumber(p.min, false) + ", " + formatNumber(p.max, false) + "]";
+  if (p.type == Type::kInt)
+    return "[" + std::to_string(int(p.min)) + ", " + std::to_string(int(p.max)) + "]";
+  if (p.type == Type::kDouble)
+    return "[" + formatNumber(p.min, false) + ", " + formatNumber(p.max, false) + "]";
   return "";
 }
 
@@ -481,12 +604,12 @@ std::string format(const Param<O>& p, const Value& v) {
   return describe(v);
 }
 
-#define SGT_INSTANTIATE(O)                                                                           \
-  template const Param<O>* find(const Schema<O>&, const std::string&);                                \
-  template void set(const Schema<O>&, O&, const std::string&, const Value&);                          \
-  template void applyYaml(const Schema<O>&, O&, const std::string&, const std::string&);              \
-  template void applyYamlFile(const Schema<O>&, O&, const std::string&);                              \
-  template std::string format(const Param<O>&, const Value&);                                         \
+#define SGT_INSTANTIATE(O)                                                               \
+  template const Param<O>* find(const Schema<O>&, const std::string&);                   \
+  template void set(const Schema<O>&, O&, const std::string&, const Value&);             \
+  template void applyYaml(const Schema<O>&, O&, const std::string&, const std::string&); \
+  template void applyYamlFile(const Schema<O>&, O&, const std::string&);                 \
+  template std::string format(const Param<O>&, const Value&);                            \
   template std::string range(const Param<O>&);
 SGT_INSTANTIATE(TrackerParameters)
 SGT_INSTANTIATE(DetectorParameters)

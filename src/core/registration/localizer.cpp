@@ -10,17 +10,23 @@ namespace sgt {
 
 const char* toString(LocalizeStatus s) {
   switch (s) {
-    case LocalizeStatus::kOk: return "ok";
-    case LocalizeStatus::kTooFewInliers: return "too few inliers";
-    case LocalizeStatus::kDegenerate: return "degenerate (map points constrain too few directions)";
-    case LocalizeStatus::kNotConverged: return "not converged";
+    case LocalizeStatus::kOk:
+      return "ok";
+    case LocalizeStatus::kTooFewInliers:
+      return "too few inliers";
+    case LocalizeStatus::kDegenerate:
+      return "degenerate (map points constrain too few directions)";
+    case LocalizeStatus::kNotConverged:
+      return "not converged";
   }
   return "?";
 }
 
-LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<RangeMeasurements>& measurements,
+LocalizeResult Localizer::localize(const RaycastScene& scene,
+                                   const std::vector<RangeMeasurements>& measurements,
                                    const Eigen::Isometry3d& T_map_base_prior) const {
-  if (scene.staticMapNode() == kNoNode) throw std::logic_error("Localizer: the scene has no static map");
+  if (scene.staticMapNode() == kNoNode)
+    throw std::logic_error("Localizer: the scene has no static map");
   LocalizeResult result;
   result.T_map_base = result.T_map_base_estimate = T_map_base_prior;
   NodeGroups groups;
@@ -29,7 +35,8 @@ LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<
   std::vector<RangeMeasurements> moved = measurements;  // sensor poses follow the estimate
   std::vector<TileSet> tiles;
   for (const RangeMeasurements& m : measurements) {
-    const int stride = std::holds_alternative<PinholeModel>(m.model) ? options_.image_stride : options_.scan_stride;
+    const int stride = std::holds_alternative<PinholeModel>(m.model) ? options_.image_stride
+                                                                     : options_.scan_stride;
     const GridRect whole{0, 0, m.rays->width, m.rays->height};
     tiles.push_back(TileSet::covering(*m.rays, std::vector<GridRect>{whole}, stride));
   }
@@ -71,28 +78,34 @@ LocalizeResult Localizer::localize(const RaycastScene& scene, const std::vector<
     if (result.inliers < options_.min_inliers) break;
     result.rmse = std::sqrt(sq_residual / pairs.size());
     AlignmentOptions alignment = options_.alignment;
-    if (options_.planar) alignment.free_dofs = {false, false, true, true, true, false};  // base frame: z up
-    const IterativeAlignment a = alignPairs(moving, fixed, normals, NormalSide::kFixed, options_.solver,
-                                            options_.steps, options_.step_tolerance, alignment);
+    if (options_.planar)
+      alignment.free_dofs = {false, false, true, true, true, false};  // base frame: z up
+    const IterativeAlignment a =
+        alignPairs(moving, fixed, normals, NormalSide::kFixed, options_.solver, options_.steps,
+                   options_.step_tolerance, alignment);
     if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar) {
       degenerate = true;
       break;
     }
     if (a.steps == 0) break;
     T = rigid(T * a.T);
-    const double moved_t = a.T.translation().norm(), moved_r = Eigen::AngleAxisd(a.T.linear()).angle();
+    const double moved_t = a.T.translation().norm(),
+                 moved_r = Eigen::AngleAxisd(a.T.linear()).angle();
     // Robust scale of the residuals (1.4826 x median absolute residual = sigma for Gaussian
     // noise): people and moved things inside the threshold must not hold it open.
-    std::nth_element(abs_residual.begin(), abs_residual.begin() + abs_residual.size() / 2, abs_residual.end());
+    std::nth_element(abs_residual.begin(), abs_residual.begin() + abs_residual.size() / 2,
+                     abs_residual.end());
     const float sigma = 1.4826f * abs_residual[abs_residual.size() / 2];
-    const float next = std::max(options_.max_dist_min, std::min(max_dist, options_.residual_factor * sigma));
+    const float next =
+        std::max(options_.max_dist_min, std::min(max_dist, options_.residual_factor * sigma));
     converged = moved_t < options_.converged_translation && moved_r < options_.converged_rotation &&
                 max_dist <= options_.max_dist_min;
     max_dist = next;
   }
   result.final_threshold = max_dist;
   result.T_map_base_estimate = T;
-  result.inlier_ratio = result.expected > 0 ? static_cast<double>(result.inliers) / result.expected : 0.0;
+  result.inlier_ratio =
+      result.expected > 0 ? static_cast<double>(result.inliers) / result.expected : 0.0;
   if (degenerate)
     result.status = LocalizeStatus::kDegenerate;
   else if (result.inliers < options_.min_inliers || result.inlier_ratio < options_.min_inlier_ratio)

@@ -12,11 +12,16 @@ namespace sgt {
 
 const char* toString(RefineStatus s) {
   switch (s) {
-    case RefineStatus::kOk: return "ok";
-    case RefineStatus::kNotVisible: return "not visible";
-    case RefineStatus::kTooFewPoints: return "too few points";
-    case RefineStatus::kDegenerate: return "degenerate (planar or collinear points)";
-    case RefineStatus::kFalseHypothesis: return "false hypothesis (few inliers)";
+    case RefineStatus::kOk:
+      return "ok";
+    case RefineStatus::kNotVisible:
+      return "not visible";
+    case RefineStatus::kTooFewPoints:
+      return "too few points";
+    case RefineStatus::kDegenerate:
+      return "degenerate (planar or collinear points)";
+    case RefineStatus::kFalseHypothesis:
+      return "false hypothesis (few inliers)";
   }
   return "?";
 }
@@ -25,8 +30,8 @@ namespace {
 
 // Removes the rotation about each continuous symmetry axis (object frame) from the step
 // T_start -> T_new, so refinement never spins an object about an axis it cannot observe.
-Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start, const Eigen::Isometry3d& T_new,
-                                        const Symmetry* symmetry) {
+Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start,
+                                        const Eigen::Isometry3d& T_new, const Symmetry* symmetry) {
   if (!symmetry || symmetry->continuous.empty()) return T_new;
   Eigen::Isometry3d rel = T_start.inverse() * T_new;
   for (const auto& c : symmetry->continuous) {
@@ -47,10 +52,12 @@ Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start, const 
 // Scales the update `delta` (object frame) along its screw so that no corner of `box` moves by
 // more than `limit`: a few near-degenerate pairs (a thin object's sliver) can otherwise produce
 // an arbitrarily large step that no pair of the round supports.
-Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::AlignedBox3f& box, double limit) {
+Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::AlignedBox3f& box,
+                            double limit) {
   double largest = 0.0;
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p = box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
+    const Eigen::Vector3d p =
+        box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
     largest = std::max(largest, (delta * p - p).norm());
   }
   if (largest <= limit) return delta;
@@ -84,7 +91,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   const int n_obj = static_cast<int>(targets.size());
   RefineResult result;
   result.assignment.resize(measurements.size());
-  for (std::size_t s = 0; s < measurements.size(); ++s) result.assignment[s].assign(measurements[s].size(), kNoNode);
+  for (std::size_t s = 0; s < measurements.size(); ++s)
+    result.assignment[s].assign(measurements[s].size(), kNoNode);
   NodeGroups groups;
   std::vector<ObjectExtent> extents(n_obj);
   std::vector<MeshId> meshes(n_obj);
@@ -109,9 +117,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
       const bool last = round + 1 == options_.rounds;
-      const bool coarse = (!last || !options_.full_resolution_last_round) && std::holds_alternative<PinholeModel>(m.model);
-      const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, extents, options_.roi_margin),
-                                              coarse ? options_.ray_stride : 1);
+      const bool coarse = (!last || !options_.full_resolution_last_round) &&
+                          std::holds_alternative<PinholeModel>(m.model);
+      const TileSet tiles =
+          TileSet::covering(*m.rays, raysNearObjects(m, extents, options_.roi_margin),
+                            coarse ? options_.ray_stride : 1);
       result.rays_cast += tiles.rayCount();
       PairingStats stats;
       last_pairs[s] = collectRayPairs(scene, m, tiles, groups, max_dist, hits, &stats);
@@ -120,11 +130,14 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         expected[k] += stats.expected[k];
       }
       if (options_.pull_radius > 0.0f) {
-        const UnexplainedPairing pulling{max_dist, options_.pull_front_margin, options_.roi_margin, options_.pull_radius};
-        const auto pulls = collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
+        const UnexplainedPairing pulling{max_dist, options_.pull_front_margin, options_.roi_margin,
+                                         options_.pull_radius};
+        const auto pulls =
+            collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
         const bool point_to_point = round < options_.pull_point_to_point_rounds;
         for (int k = 0; k < n_obj; ++k)
-          for (const RayPair& p : pulls[k]) point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
+          for (const RayPair& p : pulls[k])
+            point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
       }
     }
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
@@ -136,21 +149,25 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       const Eigen::Isometry3d T0 = extents[k].T_world_object;
       const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
       std::vector<Eigen::Vector3f> model, measured, normals;
-      model.reserve(pairs[k].size()), measured.reserve(pairs[k].size()), normals.reserve(pairs[k].size());
+      model.reserve(pairs[k].size()), measured.reserve(pairs[k].size()),
+          normals.reserve(pairs[k].size());
       for (const RayPair& p : pairs[k]) {
         model.push_back(T0_inv * p.model);
         measured.push_back(T0_inv * p.measured);
         normals.push_back(T0_inv.linear() * p.normal);
       }
-      const IterativeAlignment a = alignPairs(model, measured, normals, NormalSide::kMoving, options_.solver, options_.steps,
-                                              options_.step_tolerance, options_.alignment);
+      const IterativeAlignment a =
+          alignPairs(model, measured, normals, NormalSide::kMoving, options_.solver, options_.steps,
+                     options_.step_tolerance, options_.alignment);
       q.last_alignment = a.status;
-      if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar) degenerate[k] = 1;
+      if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar)
+        degenerate[k] = 1;
       if (a.steps > 0)
-        extents[k].T_world_object =
-            withoutSymmetricTwist(T0, T0 * limitStep(a.T, extents[k].box, step_limit), targets[k].symmetry);
+        extents[k].T_world_object = withoutSymmetricTwist(
+            T0, T0 * limitStep(a.T, extents[k].box, step_limit), targets[k].symmetry);
     });
-    for (int k = 0; k < n_obj; ++k) scene.setInstancePose(targets[k].node, extents[k].T_world_object);
+    for (int k = 0; k < n_obj; ++k)
+      scene.setInstancePose(targets[k].node, extents[k].T_world_object);
     scene.commit();
   }
 
@@ -168,7 +185,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         result.assignment[s][p.ray] = targets[k].node;
       }
     q.expected = expected[k];
-    q.inlier_ratio = q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
+    q.inlier_ratio =
+        q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
     q.rmse = q.inliers > 0 ? std::sqrt(sq / q.inliers) : 0.0;
     if (q.expected == 0)
       q.status = RefineStatus::kNotVisible;

@@ -17,8 +17,9 @@ std::vector<Eigen::Matrix3d> cuboidRotations() {
   return out;
 }
 
-std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_world_object, const Eigen::AlignedBox3f& box,
-                                                     const std::vector<Eigen::Matrix3d>& rotations) {
+std::vector<Eigen::Isometry3d> orientationCandidates(
+    const Eigen::Isometry3d& T_world_object, const Eigen::AlignedBox3f& box,
+    const std::vector<Eigen::Matrix3d>& rotations) {
   const Eigen::Vector3d c = box.center().cast<double>();
   std::vector<Eigen::Isometry3d> out;
   out.reserve(rotations.size());
@@ -33,8 +34,8 @@ std::vector<Eigen::Isometry3d> orientationCandidates(const Eigen::Isometry3d& T_
 
 OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& target,
                                     const std::vector<Eigen::Isometry3d>& candidates,
-                                    const std::vector<RangeMeasurements>& measurements, const RefinerOptions& refiner,
-                                    const OrientationPrior& prior) {
+                                    const std::vector<RangeMeasurements>& measurements,
+                                    const RefinerOptions& refiner, const OrientationPrior& prior) {
   if (candidates.empty()) throw std::invalid_argument("chooseOrientation: no candidates");
   OrientationChoice best;
   best.T_world_object = candidates.front();
@@ -44,16 +45,22 @@ OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& tar
     scene.setInstancePose(target.node, candidates[k]);
     scene.commit();
     const ObjectEstimate e = r.refine(scene, {target}, measurements).objects.front();
-    if (e.quality.status == RefineStatus::kOk) ++best.candidates_fitted;
-    else if (!prior.weak_fits_score) continue;
+    if (e.quality.status == RefineStatus::kOk)
+      ++best.candidates_fitted;
+    else if (!prior.weak_fits_score)
+      continue;
     // MSAC-style: each inlier counts 1 - (r / threshold)^2, so a closer fit of the same points
     // wins (an upside-down box explains nearly the same pixels, a few mm worse).
-    const double t = refiner.max_dist_last, fit = std::max(0.0, 1.0 - e.quality.rmse * e.quality.rmse / (t * t));
+    const double t = refiner.max_dist_last,
+                 fit = std::max(0.0, 1.0 - e.quality.rmse * e.quality.rmse / (t * t));
     double score = e.quality.inliers * e.quality.inlier_ratio * fit;
     if (k > 0) score /= 1.0 + prior.own_margin;  // the detection's own orientation wins ties
     if (prior.world_up)
-      score *= 1.0 + prior.upright_bonus * std::max(0.0, e.T_world_object.linear().col(2).dot(*prior.world_up));
-    if (score > best.score) best.candidate = k, best.T_world_object = e.T_world_object, best.quality = e.quality, best.score = score;
+      score *= 1.0 + prior.upright_bonus *
+                         std::max(0.0, e.T_world_object.linear().col(2).dot(*prior.world_up));
+    if (score > best.score)
+      best.candidate = k, best.T_world_object = e.T_world_object, best.quality = e.quality,
+      best.score = score;
   }
   if (best.score < 0.0) best.score = 0.0;
   scene.setInstancePose(target.node, best.T_world_object);

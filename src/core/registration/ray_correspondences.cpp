@@ -14,8 +14,9 @@ void NodeGroups::set(NodeId node, int group) {
   groups_ = std::max(groups_, group + 1);
 }
 
-std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, const RangeMeasurements& m,
-                                                  const TileSet& tiles, const NodeGroups& groups, float max_dist,
+std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
+                                                  const RangeMeasurements& m, const TileSet& tiles,
+                                                  const NodeGroups& groups, float max_dist,
                                                   RayHits& hits, PairingStats* stats) {
   const int n_groups = groups.groupCount();
   std::vector<std::vector<RayPair>> out(n_groups);
@@ -28,17 +29,19 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene, con
   const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
   const SensorRays& rays = *m.rays;
   std::vector<int> expected(n_groups, 0);
-  collectInTileOrder(tiles.tiles().size(), out, &expected, [&](std::size_t b, auto& pairs, int* count) {
-    tiles.forTile(rays, b, [&](int, std::size_t i) {
-      const int g = groups(hits.node[i]);
-      if (g < 0 || !m.valid(i)) return;
-      ++count[g];
-      if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
-      const Eigen::Vector3f origin = rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
-      pairs[g].push_back(
-          {origin + R * (rays.directions[i] * m.range[i]), hits.point[i], hits.normal[i], static_cast<std::uint32_t>(i)});
-    });
-  });
+  collectInTileOrder(
+      tiles.tiles().size(), out, &expected, [&](std::size_t b, auto& pairs, int* count) {
+        tiles.forTile(rays, b, [&](int, std::size_t i) {
+          const int g = groups(hits.node[i]);
+          if (g < 0 || !m.valid(i)) return;
+          ++count[g];
+          if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
+          const Eigen::Vector3f origin =
+              rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
+          pairs[g].push_back({origin + R * (rays.directions[i] * m.range[i]), hits.point[i],
+                              hits.normal[i], static_cast<std::uint32_t>(i)});
+        });
+      });
   if (stats) stats->expected = std::move(expected);
   return out;
 }
@@ -49,9 +52,11 @@ namespace {
 // turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
 // are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
 // double.
-bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
-                            const std::vector<Eigen::Vector3f>& normals, NormalSide side, const Eigen::Matrix3f& R,
-                            const Eigen::Vector3f& t, const std::array<bool, 6>& free, Eigen::Matrix3d& dR,
+bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
+                            const std::vector<Eigen::Vector3f>& fixed,
+                            const std::vector<Eigen::Vector3f>& normals, NormalSide side,
+                            const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
+                            const std::array<bool, 6>& free, Eigen::Matrix3d& dR,
                             Eigen::Vector3d& dt) {
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
@@ -65,7 +70,8 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const st
     Eigen::Matrix<float, 6, 1> g = Eigen::Matrix<float, 6, 1>::Zero();
     for (std::size_t i = begin; i < end; ++i) {
       const Eigen::Vector3f p = R * moving[i] + t;
-      const Eigen::Vector3f n = side == NormalSide::kMoving ? Eigen::Vector3f(R * normals[i]) : normals[i];
+      const Eigen::Vector3f n =
+          side == NormalSide::kMoving ? Eigen::Vector3f(R * normals[i]) : normals[i];
       const Eigen::Vector3f& lever = side == NormalSide::kMoving ? fixed[i] : p;
       Eigen::Matrix<float, 6, 1> J;
       J << lever.cross(n), n;
@@ -80,7 +86,8 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const st
   const Sums sums = tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, n, kChunk), Sums{},
       [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
-        for (std::size_t b = r.begin(); b < r.end(); b += kChunk) chunk(b, std::min(r.end(), b + kChunk), acc);
+        for (std::size_t b = r.begin(); b < r.end(); b += kChunk)
+          chunk(b, std::min(r.end(), b + kChunk), acc);
         return acc;
       },
       [](Sums a, const Sums& b) {
@@ -95,16 +102,19 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving, const st
   const Vec6 x = H.ldlt().solve(-g);
   if (!x.allFinite()) return false;
   const Eigen::Vector3d w = x.head<3>();
-  dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  dR = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                    : Eigen::Matrix3d::Identity();
   dt = x.tail<3>();
   return true;
 }
 
 }  // namespace
 
-IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving, const std::vector<Eigen::Vector3f>& fixed,
-                              const std::vector<Eigen::Vector3f>& normals, NormalSide side, StepSolver solver,
-                              int steps, double tolerance, const AlignmentOptions& options) {
+IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
+                              const std::vector<Eigen::Vector3f>& fixed,
+                              const std::vector<Eigen::Vector3f>& normals, NormalSide side,
+                              StepSolver solver, int steps, double tolerance,
+                              const AlignmentOptions& options) {
   IterativeAlignment out;
   const std::size_t n = moving.size();
   Eigen::Matrix3f R = Eigen::Matrix3f::Identity();

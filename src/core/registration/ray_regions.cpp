@@ -6,19 +6,22 @@
 namespace sgt {
 namespace {
 
-std::vector<Eigen::Vector3d> cornersInSensor(const ObjectExtent& o, const Eigen::Isometry3d& T_sensor_world,
+std::vector<Eigen::Vector3d> cornersInSensor(const ObjectExtent& o,
+                                             const Eigen::Isometry3d& T_sensor_world,
                                              float margin) {
   const Eigen::Vector3f lo = o.box.min() - Eigen::Vector3f::Constant(margin);
   const Eigen::Vector3f hi = o.box.max() + Eigen::Vector3f::Constant(margin);
   std::vector<Eigen::Vector3d> out;
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+    const Eigen::Vector3d p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
+                            (c & 4) ? hi.z() : lo.z());
     out.push_back(T_sensor_world * o.T_world_object * p);
   }
   return out;
 }
 
-void pinholeRect(const PinholeModel& cam, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+void pinholeRect(const PinholeModel& cam, const std::vector<Eigen::Vector3d>& corners,
+                 std::vector<GridRect>& out) {
   int behind = 0;
   double u0 = 1e9, v0 = 1e9, u1 = -1e9, v1 = -1e9;
   for (const auto& p : corners) {
@@ -35,13 +38,16 @@ void pinholeRect(const PinholeModel& cam, const std::vector<Eigen::Vector3d>& co
     out.push_back({0, 0, cam.width, cam.height});
     return;
   }
-  const auto clampi = [](double v, int hi) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi))); };
+  const auto clampi = [](double v, int hi) {
+    return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(hi)));
+  };
   GridRect r{clampi(std::floor(u0), cam.width), clampi(std::floor(v0), cam.height),
              clampi(std::ceil(u1) + 1, cam.width), clampi(std::ceil(v1) + 1, cam.height)};
   if (r.x0 < r.x1 && r.y0 < r.y1) out.push_back(r);
 }
 
-void lidarRects(const SpinningLidarModel& l, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+void lidarRects(const SpinningLidarModel& l, const std::vector<Eigen::Vector3d>& corners,
+                std::vector<GridRect>& out) {
   // Azimuths relative to the centre's azimuth so the span never wraps inside the computation.
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& p : corners) centre += p / 8.0;
@@ -67,7 +73,8 @@ void lidarRects(const SpinningLidarModel& l, const std::vector<Eigen::Vector3d>&
   const int r0 = std::max(0, static_cast<int>(std::floor((e0 - l.phi_min) / phi_inc)));
   const int r1 = std::min(l.rings, static_cast<int>(std::ceil((e1 - l.phi_min) / phi_inc)) + 1);
   if (r0 >= r1) return;
-  const double c0 = (a_c + da0 - l.theta_min) / l.theta_inc, c1 = (a_c + da1 - l.theta_min) / l.theta_inc;
+  const double c0 = (a_c + da0 - l.theta_min) / l.theta_inc,
+               c1 = (a_c + da1 - l.theta_min) / l.theta_inc;
   int start = static_cast<int>(std::floor(c0));
   const int span = static_cast<int>(std::ceil(c1)) + 1 - start;
   if (span >= l.columns) {
@@ -79,7 +86,8 @@ void lidarRects(const SpinningLidarModel& l, const std::vector<Eigen::Vector3d>&
   if (start + span > l.columns) out.push_back({0, r0, start + span - l.columns, r1});
 }
 
-void sphereRects(const SensorRays& rays, const std::vector<Eigen::Vector3d>& corners, std::vector<GridRect>& out) {
+void sphereRects(const SensorRays& rays, const std::vector<Eigen::Vector3d>& corners,
+                 std::vector<GridRect>& out) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : corners) c += p / 8.0;
   double r2 = 0;
@@ -98,8 +106,8 @@ void sphereRects(const SensorRays& rays, const std::vector<Eigen::Vector3d>& cor
 
 }  // namespace
 
-std::vector<GridRect> raysNearObjects(const RangeMeasurements& m, const std::vector<ObjectExtent>& objects,
-                                      float margin_m) {
+std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
+                                      const std::vector<ObjectExtent>& objects, float margin_m) {
   std::vector<GridRect> rects;
   const Eigen::Isometry3d T_sensor_world = m.T_world_sensor.inverse();
   for (const auto& o : objects) {

@@ -7,10 +7,14 @@ namespace sgt {
 
 const char* toString(AlignmentStatus s) {
   switch (s) {
-    case AlignmentStatus::kOk: return "ok";
-    case AlignmentStatus::kTooFewPoints: return "too few points";
-    case AlignmentStatus::kCollinear: return "collinear points";
-    case AlignmentStatus::kPlanar: return "planar points";
+    case AlignmentStatus::kOk:
+      return "ok";
+    case AlignmentStatus::kTooFewPoints:
+      return "too few points";
+    case AlignmentStatus::kCollinear:
+      return "collinear points";
+    case AlignmentStatus::kPlanar:
+      return "planar points";
   }
   return "?";
 }

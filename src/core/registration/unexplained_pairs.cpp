@@ -4,12 +4,10 @@
 
 namespace sgt {
 
-std::vector<std::vector<RayPair>> collectUnexplainedPairs(const RaycastScene& scene, const RangeMeasurements& m,
-                                                          const TileSet& tiles, const RayHits& hits,
-                                                          const NodeGroups& groups,
-                                                          const std::vector<ObjectExtent>& extents,
-                                                          const std::vector<MeshId>& meshes,
-                                                          const UnexplainedPairing& o) {
+std::vector<std::vector<RayPair>> collectUnexplainedPairs(
+    const RaycastScene& scene, const RangeMeasurements& m, const TileSet& tiles,
+    const RayHits& hits, const NodeGroups& groups, const std::vector<ObjectExtent>& extents,
+    const std::vector<MeshId>& meshes, const UnexplainedPairing& o) {
   const int n_obj = static_cast<int>(extents.size());
   std::vector<std::vector<RayPair>> out(n_obj);
   if (tiles.tiles().empty() || n_obj == 0) return out;
@@ -27,9 +25,12 @@ std::vector<std::vector<RayPair>> collectUnexplainedPairs(const RaycastScene& sc
     tiles.forTile(rays, b, [&](int, std::size_t i) {
       if (!m.valid(i)) return;
       const float r = m.range[i];
-      if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold) return;  // ray pair
-      if (!(hits.range[i] > r + o.front_margin)) return;  // explained, or behind the predicted surface
-      const Eigen::Vector3f ray_origin = rays.origins.empty() ? origin : Eigen::Vector3f(origin + R * rays.origins[i]);
+      if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold)
+        return;  // ray pair
+      if (!(hits.range[i] > r + o.front_margin))
+        return;  // explained, or behind the predicted surface
+      const Eigen::Vector3f ray_origin =
+          rays.origins.empty() ? origin : Eigen::Vector3f(origin + R * rays.origins[i]);
       const Eigen::Vector3f p = ray_origin + R * (rays.directions[i] * r);
       int best = -1;
       float radius = o.radius;
@@ -41,7 +42,8 @@ std::vector<std::vector<RayPair>> collectUnexplainedPairs(const RaycastScene& sc
       }
       if (best < 0) return;
       const Eigen::Isometry3d& T = extents[best].T_world_object;
-      local[best].push_back({p, (T.cast<float>() * closest.point), T.linear().cast<float>() * closest.normal,
+      local[best].push_back({p, (T.cast<float>() * closest.point),
+                             T.linear().cast<float>() * closest.normal,
                              static_cast<std::uint32_t>(i)});
     });
   });

@@ -15,8 +15,8 @@ double pointDistance(const OrientedBox& b, const Eigen::Vector3d& p_world) {
 }
 
 // Squared distance between segments p1-q1 and p2-q2 (Ericson, Real-Time Collision Detection 5.1.9).
-double segmentDistance2(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1, const Eigen::Vector3d& p2,
-                        const Eigen::Vector3d& q2) {
+double segmentDistance2(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1,
+                        const Eigen::Vector3d& p2, const Eigen::Vector3d& q2) {
   const Eigen::Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   constexpr double eps = 1e-18;
@@ -46,7 +46,8 @@ double segmentDistance2(const Eigen::Vector3d& p1, const Eigen::Vector3d& q1, co
 
 }  // namespace
 
-OrientedBox orientedBox(const Eigen::AlignedBox3d& box_object, const Eigen::Isometry3d& T_world_object) {
+OrientedBox orientedBox(const Eigen::AlignedBox3d& box_object,
+                        const Eigen::Isometry3d& T_world_object) {
   OrientedBox b;
   b.T_world_box = T_world_object * Eigen::Translation3d(box_object.center());
   b.half_extents = box_object.sizes() / 2.0;
@@ -72,7 +73,9 @@ OrientedBox enclosingBox(const OrientedBox& b, const Eigen::Matrix3d& R_world_fr
   return out;
 }
 
-bool contains(const OrientedBox& outer, const OrientedBox& inner) { return contains(outer, inner, 0.0); }
+bool contains(const OrientedBox& outer, const OrientedBox& inner) {
+  return contains(outer, inner, 0.0);
+}
 
 bool contains(const OrientedBox& outer, const OrientedBox& inner, double tolerance) {
   const Eigen::Isometry3d T_outer_world = outer.T_world_box.inverse();
@@ -84,9 +87,11 @@ bool contains(const OrientedBox& outer, const OrientedBox& inner, double toleran
 
 bool intersects(const OrientedBox& a, const OrientedBox& b) {
   const Eigen::Matrix3d A = a.T_world_box.linear(), B = b.T_world_box.linear();
-  const Eigen::Matrix3d R = A.transpose() * B;                  // b's axes in a's frame
-  const Eigen::Matrix3d absR = R.cwiseAbs().array() + 1e-12;    // parallel edges: no false separations
-  const Eigen::Vector3d t = A.transpose() * (b.T_world_box.translation() - a.T_world_box.translation());
+  const Eigen::Matrix3d R = A.transpose() * B;  // b's axes in a's frame
+  const Eigen::Matrix3d absR =
+      R.cwiseAbs().array() + 1e-12;  // parallel edges: no false separations
+  const Eigen::Vector3d t =
+      A.transpose() * (b.T_world_box.translation() - a.T_world_box.translation());
   const Eigen::Vector3d& ha = a.half_extents;
   const Eigen::Vector3d& hb = b.half_extents;
   for (int i = 0; i < 3; ++i)  // a's face normals

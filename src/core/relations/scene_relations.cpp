@@ -24,10 +24,12 @@ double highest(const OrientedBox& b) {
 
 }  // namespace
 
-std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene, NodeId map_node,
-                                 const SceneRelationOptions& o, const std::optional<Eigen::Isometry3d>& T_world_camera) {
+std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const RaycastScene* scene,
+                                 NodeId map_node, const SceneRelationOptions& o,
+                                 const std::optional<Eigen::Isometry3d>& T_world_camera) {
   auto duplicates = [](const Entity& a, const Entity& b) {
-    return a.movable && b.movable && !a.kind.empty() && a.kind == b.kind && intersects(a.box, b.box);
+    return a.movable && b.movable && !a.kind.empty() && a.kind == b.kind &&
+           intersects(a.box, b.box);
   };
   std::set<NodeId> entity_nodes;  // of the tracked objects
   for (const Entity& e : entities)
@@ -52,24 +54,28 @@ std::vector<Edge> sceneRelations(const std::vector<Entity>& entities, const Rayc
       if (&r == &t || (r.movable && twins.count(r.node))) continue;
       const NodeId r_node = r.movable ? r.node : map_node;
       const bool rests_on_r = rests_on != kNoNode && rests_on == r_node;
-      const bool in = r.movable && (contains(r.box, t.box, o.box.tolerance) ||
-                                    (rests_on_r && intersects(r.box, t.box) && lowest(t.box) < highest(r.box)));
+      const bool in =
+          r.movable && (contains(r.box, t.box, o.box.tolerance) ||
+                        (rests_on_r && intersects(r.box, t.box) && lowest(t.box) < highest(r.box)));
       // With rays, "on" needs contact: something held 1 cm over a crate's rim is not on it.
       const bool box_on = holds(Relation::On, Mode::Relaxed, t.box, r.box, o.box);
       const bool on = scene ? rests_on_r && (r.movable || box_on) : box_on;
       if (in || on) out.push_back({t.name, in ? Relation::In : Relation::On, r.name});
       if (!o.directional || !r.movable) continue;
       for (Relation d : kDirections) {
-        const bool h = o.camera_relative && T_world_camera
-                           ? holdsFromViewpoint(d, o.directional_mode, t.box, r.box, *T_world_camera, o.box)
-                           : holds(d, o.directional_mode, t.box, r.box, o.box);
+        const bool h =
+            o.camera_relative && T_world_camera
+                ? holdsFromViewpoint(d, o.directional_mode, t.box, r.box, *T_world_camera, o.box)
+                : holds(d, o.directional_mode, t.box, r.box, o.box);
         if (h) out.push_back({t.name, d, r.name});
       }
     }
   }
   // Support is one-way: two boxes each "on" or "in" the other (duplicate tracks of one object)
   // say nothing about either.
-  auto supports = [](const Edge& e) { return e.relation == Relation::On || e.relation == Relation::In; };
+  auto supports = [](const Edge& e) {
+    return e.relation == Relation::On || e.relation == Relation::In;
+  };
   auto mutual = [&](const Edge& e) {
     return supports(e) && std::any_of(out.begin(), out.end(), [&](const Edge& f) {
              return supports(f) && f.subject == e.object && f.object == e.subject;

@@ -5,14 +5,20 @@
 namespace sgt::relations {
 namespace {
 
-constexpr const char* kNames[kRelationCount] = {"on", "in", "left_of", "right_of", "in_front_of", "behind", "above", "below"};
+constexpr const char* kNames[kRelationCount] = {"on",          "in",     "left_of", "right_of",
+                                                "in_front_of", "behind", "above",   "below"};
 
 // The side's axis (0 x, 1 y, 2 z) and direction (+1 / -1) in R's frame.
 int axisOf(Side s) {
   switch (s) {
-    case Side::Front: case Side::Back: return 0;
-    case Side::Left: case Side::Right: return 1;
-    default: return 2;
+    case Side::Front:
+    case Side::Back:
+      return 0;
+    case Side::Left:
+    case Side::Right:
+      return 1;
+    default:
+      return 2;
   }
 }
 double signOf(Side s) { return s == Side::Front || s == Side::Left || s == Side::Top ? 1.0 : -1.0; }
@@ -51,12 +57,18 @@ const char* sideName(Side s) {
 
 Side sideOf(Relation r) {
   switch (r) {
-    case Relation::LeftOf: return Side::Left;
-    case Relation::RightOf: return Side::Right;
-    case Relation::InFrontOf: return Side::Front;
-    case Relation::Behind: return Side::Back;
-    case Relation::Below: return Side::Bottom;
-    default: return Side::Top;
+    case Relation::LeftOf:
+      return Side::Left;
+    case Relation::RightOf:
+      return Side::Right;
+    case Relation::InFrontOf:
+      return Side::Front;
+    case Relation::Behind:
+      return Side::Back;
+    case Relation::Below:
+      return Side::Bottom;
+    default:
+      return Side::Top;
   }
 }
 
@@ -74,14 +86,16 @@ OrientedBox halfspace(const OrientedBox& reference, Side side, const RelationOpt
   return extrusion(reference, side, o, 1.0);
 }
 
-bool holds(Relation r, Mode m, const OrientedBox& target, const OrientedBox& reference, const RelationOptions& o) {
+bool holds(Relation r, Mode m, const OrientedBox& target, const OrientedBox& reference,
+           const RelationOptions& o) {
   const bool strict = m == Mode::Strict;
   switch (solidOf(r, m)) {
     case Solid::Box:
       return contains(reference, target, o.tolerance) || (!strict && intersects(reference, target));
     case Solid::Halfspace:
       return intersects(halfspace(reference, sideOf(r), o), target);
-    case Solid::Projection: break;
+    case Solid::Projection:
+      break;
   }
   const OrientedBox p = projection(reference, sideOf(r), o);
   const bool in_solid = strict ? contains(p, target, o.tolerance) : intersects(p, target);
@@ -93,7 +107,8 @@ OrientedBox viewerAligned(const OrientedBox& reference, const Eigen::Isometry3d&
                           const Eigen::Vector3d& forward_in_camera) {
   const Eigen::Vector3d f = T_world_camera.linear() * forward_in_camera;
   const double yaw = std::atan2(f.y(), f.x());  // a camera looking straight down keeps some yaw
-  return enclosingBox(reference, Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  return enclosingBox(reference,
+                      Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix());
 }
 
 bool holdsFromViewpoint(Relation r, Mode m, const OrientedBox& target, const OrientedBox& reference,
@@ -101,8 +116,10 @@ bool holdsFromViewpoint(Relation r, Mode m, const OrientedBox& target, const Ori
                         const Eigen::Vector3d& forward_in_camera) {
   if (!isDirectional(r)) return holds(r, m, target, reference, o);
   // The viewer frame's +x points away from the viewer: "in front of R" is R's -x side.
-  if (r == Relation::InFrontOf) r = Relation::Behind;
-  else if (r == Relation::Behind) r = Relation::InFrontOf;
+  if (r == Relation::InFrontOf)
+    r = Relation::Behind;
+  else if (r == Relation::Behind)
+    r = Relation::InFrontOf;
   return holds(r, m, target, viewerAligned(reference, T_world_camera, forward_in_camera), o);
 }
 

@@ -57,7 +57,8 @@ Symmetry parseSymmetry(const YAML::Node& node, const std::string& ctx) {
   Symmetry sym;
   if (const auto d = node["symmetries_discrete"]) {
     for (const auto& m : d) {
-      if (m.size() != 16) throw CatalogError(ctx + ": symmetries_discrete entries need 16 numbers" + where(m));
+      if (m.size() != 16)
+        throw CatalogError(ctx + ": symmetries_discrete entries need 16 numbers" + where(m));
       Eigen::Matrix4d M;
       for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i].as<double>();
       Eigen::Isometry3d T(M);
@@ -70,12 +71,15 @@ Symmetry parseSymmetry(const YAML::Node& node, const std::string& ctx) {
     for (const auto& s : c) {
       ContinuousSymmetry cs;
       const auto axis = s["axis"], offset = s["offset"];
-      if (!axis || axis.size() != 3) throw CatalogError(ctx + ": continuous symmetry needs axis: [x, y, z]" + where(s));
+      if (!axis || axis.size() != 3)
+        throw CatalogError(ctx + ": continuous symmetry needs axis: [x, y, z]" + where(s));
       cs.axis = Eigen::Vector3d(axis[0].as<double>(), axis[1].as<double>(), axis[2].as<double>());
-      if (!(cs.axis.norm() > 0)) throw CatalogError(ctx + ": continuous symmetry axis is zero" + where(s));
+      if (!(cs.axis.norm() > 0))
+        throw CatalogError(ctx + ": continuous symmetry axis is zero" + where(s));
       cs.axis.normalize();
       if (offset && offset.size() == 3)
-        cs.offset = Eigen::Vector3d(offset[0].as<double>(), offset[1].as<double>(), offset[2].as<double>()) *
+        cs.offset = Eigen::Vector3d(offset[0].as<double>(), offset[1].as<double>(),
+                                    offset[2].as<double>()) *
                     (offset[0].as<double>() > 1.0 ? 1e-3 : 1.0);
       sym.continuous.push_back(cs);
     }
@@ -83,7 +87,8 @@ Symmetry parseSymmetry(const YAML::Node& node, const std::string& ctx) {
   return sym;
 }
 
-std::string findInOverride(const fs::path& dir, const std::string& cls, const std::string& configured) {
+std::string findInOverride(const fs::path& dir, const std::string& cls,
+                           const std::string& configured) {
   const std::string file = fs::path(configured).filename().string();
   std::vector<fs::path> candidates{dir / file, dir / cls / file};
   for (const char* ext : {".stl", ".obj", ".ply", ".dae", ".glb", ".gltf"}) {
@@ -94,14 +99,16 @@ std::string findInOverride(const fs::path& dir, const std::string& cls, const st
     if (fs::is_regular_file(c)) return c.string();
   if (fs::is_directory(dir / cls))
     for (const auto& e : fs::directory_iterator(dir / cls))
-      if (e.path().extension() == ".stl" && e.path().string().find("simplified") == std::string::npos)
+      if (e.path().extension() == ".stl" &&
+          e.path().string().find("simplified") == std::string::npos)
         return e.path().string();
   throw CatalogError("object catalog: no mesh for class '" + cls + "' in " + dir.string());
 }
 
 }  // namespace
 
-ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string& mesh_dir_override) {
+ObjectCatalog loadObjectCatalog(const std::string& yaml_path,
+                                const std::string& mesh_dir_override) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path);
@@ -110,10 +117,12 @@ ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string&
   }
   const fs::path yaml_dir = fs::path(yaml_path).parent_path();
   std::string mesh_dir = yaml_dir.string();
-  if (root["mesh_dir"]) mesh_dir = resolveResourcePath(root["mesh_dir"].as<std::string>(), yaml_dir.string());
+  if (root["mesh_dir"])
+    mesh_dir = resolveResourcePath(root["mesh_dir"].as<std::string>(), yaml_dir.string());
   const auto objects = root["objects"];
   if (!objects || !objects.IsMap())
-    throw CatalogError("object catalog '" + yaml_path + "': needs a map 'objects: {class: {mesh: ...}}'");
+    throw CatalogError("object catalog '" + yaml_path +
+                       "': needs a map 'objects: {class: {mesh: ...}}'");
   ObjectCatalog catalog;
   for (const auto& kv : objects) {
     const std::string cls = kv.first.as<std::string>();
@@ -129,7 +138,8 @@ ObjectCatalog loadObjectCatalog(const std::string& yaml_path, const std::string&
     } else {
       obj.mesh_path = findInOverride(mesh_dir_override, cls, configured);
       const fs::path info = fs::path(mesh_dir_override) / cls / "model_info.json";
-      if (fs::exists(info)) obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
+      if (fs::exists(info))
+        obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
     }
     MeshLoadOptions opts;
     opts.scale = o["scale"] ? o["scale"].as<float>() : 1.0f;

@@ -14,7 +14,9 @@ namespace sgt {
 namespace {
 
 RTCBuildQuality quality(int q) {
-  return q <= 0 ? RTC_BUILD_QUALITY_LOW : q == 1 ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+  return q <= 0   ? RTC_BUILD_QUALITY_LOW
+         : q == 1 ? RTC_BUILD_QUALITY_MEDIUM
+                  : RTC_BUILD_QUALITY_HIGH;
 }
 
 void checkDevice(RTCDevice device, const char* what) {
@@ -24,8 +26,8 @@ void checkDevice(RTCDevice device, const char* what) {
 }
 
 // Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
-Eigen::Vector3f closestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-                                  const Eigen::Vector3f& c) {
+Eigen::Vector3f closestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
+                                  const Eigen::Vector3f& b, const Eigen::Vector3f& c) {
   const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
   const float d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return a;
@@ -40,7 +42,8 @@ Eigen::Vector3f closestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3
   const float vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
   const float va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const float denom = 1.0f / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
@@ -139,12 +142,14 @@ MeshId RaycastScene::addMesh(std::shared_ptr<const TriangleMesh> mesh) {
   RTCScene scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene, quality(options_.object_build_quality));
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                        3 * sizeof(float), mesh->vertices.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                        mesh->vertices.size()));
   for (std::size_t i = 0; i < mesh->vertices.size(); ++i)
     for (int c = 0; c < 3; ++c) v[3 * i + c] = mesh->vertices[i][c];
-  auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh->triangles.size()));
+  auto* idx = static_cast<std::uint32_t*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(std::uint32_t), mesh->triangles.size()));
   for (std::size_t i = 0; i < mesh->triangles.size(); ++i)
     for (int c = 0; c < 3; ++c) idx[3 * i + c] = mesh->triangles[i][c];
   rtcSetGeometryBuildQuality(geom, quality(options_.object_build_quality));
@@ -183,9 +188,11 @@ unsigned RaycastScene::slotFor(NodeId node) const {
 
 void RaycastScene::writeTransform(unsigned slot, const Eigen::Isometry3d& T) {
   if (!T.matrix().allFinite())
-    throw std::invalid_argument("RaycastScene: non-finite pose for node " + std::to_string(slots_[slot].node));
+    throw std::invalid_argument("RaycastScene: non-finite pose for node " +
+                                std::to_string(slots_[slot].node));
   RTCGeometry geom = rtcGetGeometry(top_, slot);
-  const Eigen::Matrix<float, 3, 4> m = T.matrix().topRows<3>().cast<float>();  // column-major storage
+  const Eigen::Matrix<float, 3, 4> m =
+      T.matrix().topRows<3>().cast<float>();  // column-major storage
   rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
   rtcCommitGeometry(geom);
   slots_[slot].T = T;
@@ -196,7 +203,8 @@ void RaycastScene::writeTransform(unsigned slot, const Eigen::Isometry3d& T) {
 unsigned RaycastScene::attachInstance(NodeId node, MeshId mesh_id, const Eigen::Isometry3d& T) {
   if (node == kNoNode) throw std::invalid_argument("RaycastScene: instance needs a node id");
   if (slot_of_node_.count(node))
-    throw std::invalid_argument("RaycastScene: node " + std::to_string(node) + " already has an instance");
+    throw std::invalid_argument("RaycastScene: node " + std::to_string(node) +
+                                " already has an instance");
   mesh(mesh_id);  // range check
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(geom, mesh_scenes_[mesh_id]);
@@ -223,7 +231,9 @@ void RaycastScene::addInstance(NodeId node, MeshId mesh_id, const Eigen::Isometr
   attachInstance(node, mesh_id, T);
 }
 
-void RaycastScene::setInstancePose(NodeId node, const Eigen::Isometry3d& T) { writeTransform(slotFor(node), T); }
+void RaycastScene::setInstancePose(NodeId node, const Eigen::Isometry3d& T) {
+  writeTransform(slotFor(node), T);
+}
 
 void RaycastScene::removeInstance(NodeId node) {
   const unsigned slot = slotFor(node);
@@ -253,7 +263,8 @@ void RaycastScene::commit() {
 namespace {
 
 // Fills lane k of a 16-ray packet; the hit starts out as "nothing".
-void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Vector3f& dir, float tnear, float tfar) {
+void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Vector3f& dir,
+             float tnear, float tfar) {
   rh.ray.org_x[k] = org.x(), rh.ray.org_y[k] = org.y(), rh.ray.org_z[k] = org.z();
   rh.ray.dir_x[k] = dir.x(), rh.ray.dir_y[k] = dir.y(), rh.ray.dir_z[k] = dir.z();
   rh.ray.tnear[k] = tnear;
@@ -268,8 +279,8 @@ void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Ve
 
 }  // namespace
 
-void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
-                        const TileSet* tiles, const CastLimit& limit) const {
+void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor,
+                        RayHits& hits, const TileSet* tiles, const CastLimit& limit) const {
   if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
   if (limit.range && limit.range->size() != rays.size())
     throw std::invalid_argument("RaycastScene::cast: " + std::to_string(limit.range->size()) +
@@ -283,61 +294,64 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
   const bool per_ray_origin = !rays.origins.empty();
   RTCScene scene = top_;
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, set.tiles().size(), 16), [&](const auto& block) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(64) int valid[16];
-    RTCRayHit16 rh;
-    std::size_t index[16];
-    for (std::size_t b = block.begin(); b != block.end(); ++b) {
-      std::fill(std::begin(valid), std::end(valid), 0);
-      set.forTile(rays, b, [&](int k, std::size_t i) {
-        float far = rays.range_max;
-        if (limit.range) {
-          const float r = (*limit.range)[i];
-          if (!std::isfinite(r)) {
-            hits.range[i] = std::numeric_limits<float>::infinity();
-            hits.node[i] = kNoNode;
-            return;
-          }
-          far = std::min(far, r + limit.slack);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, set.tiles().size(), 16), [&](const auto& block) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        alignas(64) int valid[16];
+        RTCRayHit16 rh;
+        std::size_t index[16];
+        for (std::size_t b = block.begin(); b != block.end(); ++b) {
+          std::fill(std::begin(valid), std::end(valid), 0);
+          set.forTile(rays, b, [&](int k, std::size_t i) {
+            float far = rays.range_max;
+            if (limit.range) {
+              const float r = (*limit.range)[i];
+              if (!std::isfinite(r)) {
+                hits.range[i] = std::numeric_limits<float>::infinity();
+                hits.node[i] = kNoNode;
+                return;
+              }
+              far = std::min(far, r + limit.slack);
+            }
+            valid[k] = -1;
+            index[k] = i;
+            setLane(rh, k, per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o,
+                    R * rays.directions[i], rays.range_min, far);
+          });
+          rtcIntersect16(valid, scene, &context, &rh);
+          for (int k = 0; k < 16; ++k)
+            if (valid[k]) writeHit(rh, k, index[k], hits);
         }
-        valid[k] = -1;
-        index[k] = i;
-        setLane(rh, k, per_ray_origin ? Eigen::Vector3f(o + R * rays.origins[i]) : o, R * rays.directions[i],
-                rays.range_min, far);
       });
-      rtcIntersect16(valid, scene, &context, &rh);
-      for (int k = 0; k < 16; ++k)
-        if (valid[k]) writeHit(rh, k, index[k], hits);
-    }
-  });
 }
 
 void RaycastScene::cast(const std::vector<WorldRay>& rays, RayHits& hits) const {
   if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
   hits.resize(static_cast<int>(rays.size()), 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (rays.size() + 15) / 16, 16), [&](const auto& block) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    alignas(64) int valid[16];
-    RTCRayHit16 rh;
-    for (std::size_t b = block.begin(); b != block.end(); ++b) {
-      for (int k = 0; k < 16; ++k) {
-        const std::size_t i = b * 16 + k;
-        valid[k] = i < rays.size() ? -1 : 0;
-        if (!valid[k]) continue;
-        setLane(rh, k, rays[i].origin, rays[i].direction, 0.0f, rays[i].far);
-      }
-      rtcIntersect16(valid, top_, &context, &rh);
-      for (int k = 0; k < 16; ++k)
-        if (valid[k]) writeHit(rh, k, b * 16 + k, hits);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (rays.size() + 15) / 16, 16),
+                    [&](const auto& block) {
+                      RTCIntersectContext context;
+                      rtcInitIntersectContext(&context);
+                      alignas(64) int valid[16];
+                      RTCRayHit16 rh;
+                      for (std::size_t b = block.begin(); b != block.end(); ++b) {
+                        for (int k = 0; k < 16; ++k) {
+                          const std::size_t i = b * 16 + k;
+                          valid[k] = i < rays.size() ? -1 : 0;
+                          if (!valid[k]) continue;
+                          setLane(rh, k, rays[i].origin, rays[i].direction, 0.0f, rays[i].far);
+                        }
+                        rtcIntersect16(valid, top_, &context, &rh);
+                        for (int k = 0; k < 16; ++k)
+                          if (valid[k]) writeHit(rh, k, b * 16 + k, hits);
+                      }
+                    });
 }
 
-bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float radius, SurfacePoint& out) const {
+bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float radius,
+                                SurfacePoint& out) const {
   const TriangleMesh& m = this->mesh(mesh);
   RTCPointQuery query;
   query.x = p.x(), query.y = p.y(), query.z = p.z();
@@ -349,7 +363,8 @@ bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float rad
   rtcPointQuery(mesh_scenes_[mesh], &query, &context, closestTriangleCallback, &state);
   if (!state.found) return false;
   const Triangle& t = m.triangles[state.primitive];
-  const Eigen::Vector3f n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+  const Eigen::Vector3f n =
+      (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
   out.point = state.best;
   out.normal = n.norm() > 0 ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f::UnitZ();
   out.distance = (state.best - p).norm();

@@ -46,7 +46,8 @@ NodeId SceneGraph::add(const std::string& name, const std::string& class_name, N
 }
 
 void SceneGraph::remove(NodeId id) {
-  if (id == kWorldNode) throw std::invalid_argument("scene graph: the world node cannot be removed");
+  if (id == kWorldNode)
+    throw std::invalid_argument("scene graph: the world node cannot be removed");
   const SceneNode n = node(id);
   for (NodeId child : n.children) reparent(child, n.parent);
   auto& siblings = mutableNode(n.parent).children;

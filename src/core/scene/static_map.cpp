@@ -17,7 +17,8 @@ Eigen::Isometry3f toEigen(const urdf::Pose& p) {
   return T;
 }
 
-TriangleMesh visualMesh(const urdf::Geometry& g, const std::string& urdf_path, const std::string& link) {
+TriangleMesh visualMesh(const urdf::Geometry& g, const std::string& urdf_path,
+                        const std::string& link) {
   switch (g.type) {
     case urdf::Geometry::BOX: {
       const auto& b = static_cast<const urdf::Box&>(g);
@@ -38,7 +39,8 @@ TriangleMesh visualMesh(const urdf::Geometry& g, const std::string& urdf_path, c
       } catch (const MeshError& e) {
         throw MeshError("URDF '" + urdf_path + "', link '" + link + "': " + e.what());
       }
-      for (auto& v : mesh.vertices) v = v.cwiseProduct(Eigen::Vector3f(m.scale.x, m.scale.y, m.scale.z));
+      for (auto& v : mesh.vertices)
+        v = v.cwiseProduct(Eigen::Vector3f(m.scale.x, m.scale.y, m.scale.z));
       return mesh;
     }
   }
@@ -49,9 +51,11 @@ void addLink(const urdf::Link& link, const Eigen::Isometry3f& T_map_link, const 
              TriangleMesh& out) {
   for (const auto& visual : link.visual_array)
     if (visual && visual->geometry)
-      out.append(visualMesh(*visual->geometry, path, link.name), T_map_link * toEigen(visual->origin));
+      out.append(visualMesh(*visual->geometry, path, link.name),
+                 T_map_link * toEigen(visual->origin));
   if (link.visual_array.empty() && link.visual && link.visual->geometry)
-    out.append(visualMesh(*link.visual->geometry, path, link.name), T_map_link * toEigen(link.visual->origin));
+    out.append(visualMesh(*link.visual->geometry, path, link.name),
+               T_map_link * toEigen(link.visual->origin));
   for (const auto& joint : link.child_joints) {
     for (const auto& c : link.child_links)
       if (c->name == joint->child_link_name)

@@ -8,16 +8,22 @@ namespace sgt {
 
 const char* toString(PointLabel l) {
   switch (l) {
-    case PointLabel::kInvalid: return "invalid";
-    case PointLabel::kStaticMap: return "static map";
-    case PointLabel::kObject: return "object";
-    case PointLabel::kUnknown: return "unknown";
-    case PointLabel::kBehind: return "behind the map";
+    case PointLabel::kInvalid:
+      return "invalid";
+    case PointLabel::kStaticMap:
+      return "static map";
+    case PointLabel::kObject:
+      return "object";
+    case PointLabel::kUnknown:
+      return "unknown";
+    case PointLabel::kBehind:
+      return "behind the map";
   }
   return "?";
 }
 
-Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m, const PresegmentOptions& options) {
+Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m,
+                           const PresegmentOptions& options) {
   Presegmentation out;
   const std::size_t n = m.size();
   out.label.assign(n, PointLabel::kInvalid);
@@ -55,15 +61,24 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
   for (std::size_t i = 0; i < n; ++i) {
     switch (out.label[i]) {
-      case PointLabel::kInvalid: ++out.counts.invalid; break;
-      case PointLabel::kStaticMap: ++out.counts.static_map; break;
-      case PointLabel::kObject: ++out.counts.object; break;
-      case PointLabel::kBehind: ++out.counts.behind; break;
+      case PointLabel::kInvalid:
+        ++out.counts.invalid;
+        break;
+      case PointLabel::kStaticMap:
+        ++out.counts.static_map;
+        break;
+      case PointLabel::kObject:
+        ++out.counts.object;
+        break;
+      case PointLabel::kBehind:
+        ++out.counts.behind;
+        break;
       case PointLabel::kUnknown:
         ++out.counts.unknown;
         out.unknown_rays.push_back(static_cast<std::uint32_t>(i));
         out.unknown_points.push_back(
-            (m.rays->origins.empty() ? o : Eigen::Vector3f(o + R * m.rays->origins[i])) + R * m.pointInSensor(i));
+            (m.rays->origins.empty() ? o : Eigen::Vector3f(o + R * m.rays->origins[i])) +
+            R * m.pointInSensor(i));
         break;
     }
   }

@@ -12,12 +12,14 @@ std::size_t RangeMeasurements::validCount() const {
 }
 
 RangeMeasurements fromDepthImage(const PinholeModel& model, std::shared_ptr<const SensorRays> rays,
-                                 const std::vector<float>& depth, const Eigen::Isometry3d& T, const std::string& sensor) {
+                                 const std::vector<float>& depth, const Eigen::Isometry3d& T,
+                                 const std::string& sensor) {
   const std::size_t expected = static_cast<std::size_t>(model.width) * model.height;
   if (depth.size() != expected || !rays || rays->size() != expected)
-    throw std::invalid_argument(sensor + ": depth image has " + std::to_string(depth.size()) + " pixels, rays " +
-                                std::to_string(rays ? rays->size() : 0) + ", camera model " +
-                                std::to_string(model.width) + "x" + std::to_string(model.height));
+    throw std::invalid_argument(sensor + ": depth image has " + std::to_string(depth.size()) +
+                                " pixels, rays " + std::to_string(rays ? rays->size() : 0) +
+                                ", camera model " + std::to_string(model.width) + "x" +
+                                std::to_string(model.height));
   RangeMeasurements m;
   m.sensor = sensor;
   m.model = model;
@@ -32,8 +34,9 @@ RangeMeasurements fromDepthImage(const PinholeModel& model, std::shared_ptr<cons
   return m;
 }
 
-RangeMeasurements fromRanges(const SensorModel& model, std::shared_ptr<const SensorRays> rays, std::vector<float> ranges,
-                             const Eigen::Isometry3d& T, const std::string& sensor) {
+RangeMeasurements fromRanges(const SensorModel& model, std::shared_ptr<const SensorRays> rays,
+                             std::vector<float> ranges, const Eigen::Isometry3d& T,
+                             const std::string& sensor) {
   if (!rays || ranges.size() != rays->size())
     throw std::invalid_argument(sensor + ": " + std::to_string(ranges.size()) + " ranges for " +
                                 std::to_string(rays ? rays->size() : 0) + " rays");

@@ -31,8 +31,9 @@ SensorRays makeRays(const PinholeModel& m) {
 }
 
 std::shared_ptr<const SensorRays> PinholeRayCache::rays(const PinholeModel& m) {
-  const bool same = rays_ && m.width == model_.width && m.height == model_.height && m.fx == model_.fx &&
-                    m.fy == model_.fy && m.cx == model_.cx && m.cy == model_.cy && m.range_min == model_.range_min &&
+  const bool same = rays_ && m.width == model_.width && m.height == model_.height &&
+                    m.fx == model_.fx && m.fy == model_.fy && m.cx == model_.cx &&
+                    m.cy == model_.cy && m.range_min == model_.range_min &&
                     m.range_max == model_.range_max;
   if (!same) rays_ = std::make_shared<const SensorRays>(makeRays(m)), model_ = m;
   return rays_;
@@ -60,7 +61,8 @@ SensorRays makeRays(std::vector<Eigen::Vector3f> directions, std::vector<Eigen::
                                 std::to_string(directions.size()) + " directions");
   for (auto& d : directions) {
     const float n = d.norm();
-    if (!(n > 0.0f) || !std::isfinite(n)) throw std::invalid_argument("ray set: a direction is zero or not finite");
+    if (!(n > 0.0f) || !std::isfinite(n))
+      throw std::invalid_argument("ray set: a direction is zero or not finite");
     d /= n;
   }
   SensorRays rays;

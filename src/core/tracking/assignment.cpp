@@ -14,7 +14,8 @@ std::vector<int> assignMinCost(const Eigen::MatrixXd& cost, double forbidden) {
   double max_real = 0.0;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c)
-      if (std::isfinite(cost(r, c)) && cost(r, c) < forbidden) max_real = std::max(max_real, std::abs(cost(r, c)));
+      if (std::isfinite(cost(r, c)) && cost(r, c) < forbidden)
+        max_real = std::max(max_real, std::abs(cost(r, c)));
   const double big = (max_real + 1.0) * (n + 1);
   Eigen::MatrixXd a = Eigen::MatrixXd::Constant(n, n, big);
   for (int r = 0; r < rows; ++r)

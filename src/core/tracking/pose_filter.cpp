@@ -22,8 +22,10 @@ PoseFilter::PoseFilter(const Eigen::Isometry3d& T, const Mat6& cov, const PoseFi
   P_.block<3, 3>(6, 6) = cov.block<3, 3>(3, 3);
   P_.block<3, 3>(0, 6) = cov.block<3, 3>(0, 3);
   P_.block<3, 3>(6, 0) = cov.block<3, 3>(3, 0);
-  P_.block<3, 3>(3, 3) = Eigen::Matrix3d::Identity() * noise.initial_velocity * noise.initial_velocity;
-  P_.block<3, 3>(9, 9) = Eigen::Matrix3d::Identity() * noise.initial_angular_velocity * noise.initial_angular_velocity;
+  P_.block<3, 3>(3, 3) =
+      Eigen::Matrix3d::Identity() * noise.initial_velocity * noise.initial_velocity;
+  P_.block<3, 3>(9, 9) =
+      Eigen::Matrix3d::Identity() * noise.initial_angular_velocity * noise.initial_angular_velocity;
 }
 
 void PoseFilter::predict(double dt) {
@@ -37,7 +39,8 @@ void PoseFilter::predict(double dt) {
   const auto block = [&](int i, double sigma) {  // white-noise acceleration on (x, dx/dt)
     const double q = sigma * sigma;
     Q.block<3, 3>(i, i) = Eigen::Matrix3d::Identity() * q * dt * dt * dt / 3.0;
-    Q.block<3, 3>(i, i + 3) = Q.block<3, 3>(i + 3, i) = Eigen::Matrix3d::Identity() * q * dt * dt / 2.0;
+    Q.block<3, 3>(i, i + 3) = Q.block<3, 3>(i + 3, i) =
+        Eigen::Matrix3d::Identity() * q * dt * dt / 2.0;
     Q.block<3, 3>(i + 3, i + 3) = Eigen::Matrix3d::Identity() * q * dt;
   };
   block(0, noise_.accel);
@@ -55,7 +58,8 @@ void PoseFilter::damp(double dt) {
   P_ = D * P_ * D.transpose();
 }
 
-Eigen::Matrix<double, 6, 1> PoseFilter::innovation(const Eigen::Isometry3d& T, const Symmetry* symmetry) const {
+Eigen::Matrix<double, 6, 1> PoseFilter::innovation(const Eigen::Isometry3d& T,
+                                                   const Symmetry* symmetry) const {
   Eigen::Matrix<double, 6, 1> r;
   r.head<3>() = T.translation() - p_;
   r.tail<3>() = logSO3(T.linear() * R_.transpose());
@@ -64,13 +68,15 @@ Eigen::Matrix<double, 6, 1> PoseFilter::innovation(const Eigen::Isometry3d& T, c
     for (const Eigen::Isometry3d& S : symmetry->sampled(M_PI / 90.0)) {
       const Eigen::Isometry3d twin = T * S.inverse();
       const Eigen::Vector3d dr = logSO3(twin.linear() * R_.transpose());
-      if (dr.squaredNorm() < best) best = dr.squaredNorm(), r.head<3>() = twin.translation() - p_, r.tail<3>() = dr;
+      if (dr.squaredNorm() < best)
+        best = dr.squaredNorm(), r.head<3>() = twin.translation() - p_, r.tail<3>() = dr;
     }
   }
   return r;
 }
 
-double PoseFilter::distance2(const Eigen::Isometry3d& T, const Mat6& cov, const Symmetry* symmetry) const {
+double PoseFilter::distance2(const Eigen::Isometry3d& T, const Mat6& cov,
+                             const Symmetry* symmetry) const {
   const Eigen::Matrix<double, 6, 1> r = innovation(T, symmetry);
   return r.dot((poseCovariance() + cov).ldlt().solve(r));
 }
@@ -110,7 +116,8 @@ PoseFilter::Mat6 PoseFilter::poseCovariance() const {
 
 PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad) {
   PoseFilter::Mat6 C = PoseFilter::Mat6::Zero();
-  C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
+  C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m),
+      Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
   return C;
 }
 

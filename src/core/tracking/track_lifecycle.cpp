@@ -10,11 +10,13 @@ double absentSince(double since, bool absent, double stamp) {
 }
 
 // A good fit: fit support, hits, confirmation, a search for its orientation.
-void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e, const LifecycleOptions& o) {
+void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
+                 const LifecycleOptions& o) {
   TrackLife& life = t.life;
   life.fit_support = FitSupport::next(life.fit_support, e.fit.inlier_ratio, o);
   const bool contradicted = FitSupport::unsupported(e.child, life.fit_support, o);
-  life.absent_since = absentSince(life.absent_since, before.state != TrackState::kTentative && contradicted, e.stamp);
+  life.absent_since = absentSince(life.absent_since,
+                                  before.state != TrackState::kTentative && contradicted, e.stamp);
   if (Confirmation::countsAsHit(before.state, e.fit.inlier_ratio, o)) ++life.hits;
   const bool confirmed = Confirmation::confirmed(life, o);
   // A real object now: is its rotation the right one?
@@ -24,11 +26,13 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
 }
 
 // No usable fit: evidence of absence, and a confirmed track is lost.
-void coast(Transition& t, const TrackLife& before, const TrackEvidence& e, const LifecycleOptions& o) {
+void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
+           const LifecycleOptions& o) {
   TrackLife& life = t.life;
   bool absent = false;
   if (ChildOfContainer::collectsAbsence(e.child))
-    absent = before.state == TrackState::kTentative ? TentativeAbsence::absent(e.fit, o) : e.absence_seen;
+    absent = before.state == TrackState::kTentative ? TentativeAbsence::absent(e.fit, o)
+                                                    : e.absence_seen;
   life.absent_since = absentSince(life.absent_since, absent, e.stamp);
   if (before.state == TrackState::kConfirmed) life.state = TrackState::kLost;
 }
@@ -37,23 +41,30 @@ void coast(Transition& t, const TrackLife& before, const TrackEvidence& e, const
 
 const char* toString(TrackState s) {
   switch (s) {
-    case TrackState::kTentative: return "tentative";
-    case TrackState::kConfirmed: return "confirmed";
-    case TrackState::kLost: return "lost";
-    case TrackState::kRemoved: return "removed";
+    case TrackState::kTentative:
+      return "tentative";
+    case TrackState::kConfirmed:
+      return "confirmed";
+    case TrackState::kLost:
+      return "lost";
+    case TrackState::kRemoved:
+      return "removed";
   }
   return "?";
 }
 
-bool WeakFitPlacement::places(TrackState state, bool child, const ObjectQuality& fit, const LifecycleOptions& o) {
+bool WeakFitPlacement::places(TrackState state, bool child, const ObjectQuality& fit,
+                              const LifecycleOptions& o) {
   return !child && state == TrackState::kTentative && fit.status == RefineStatus::kTooFewPoints &&
          fit.inliers >= o.min_weak_fit_inliers && fit.inlier_ratio >= o.confirm_inlier_ratio;
 }
 
-bool LostTrackResume::rejects(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o) {
+bool LostTrackResume::rejects(const TrackLife& life, const TrackEvidence& e,
+                              const LifecycleOptions& o) {
   const bool resumes_unaided = life.state == TrackState::kLost && life.last_hypothesis < e.stamp;
   return e.fit.status == RefineStatus::kOk && resumes_unaided &&
-         (e.fit_jump_m > o.lost_track_max_jump_m || e.fit.inlier_ratio < o.lost_track_resume_inlier_ratio);
+         (e.fit_jump_m > o.lost_track_max_jump_m ||
+          e.fit.inlier_ratio < o.lost_track_resume_inlier_ratio);
 }
 
 double FitSupport::next(double support, double inlier_ratio, const LifecycleOptions& o) {
@@ -81,9 +92,12 @@ bool TentativeAbsence::absent(const ObjectQuality& fit, const LifecycleOptions& 
   return should_show && (fit.status != RefineStatus::kDegenerate || !explained);
 }
 
-bool OrientationReSearch::due(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o) {
-  return life.state == TrackState::kConfirmed && !e.child && life.fit_support < o.research_below_fit_support &&
-         e.stamp - life.last_orientation_search >= o.orientation_search_interval_s && !e.queued_for_search;
+bool OrientationReSearch::due(const TrackLife& life, const TrackEvidence& e,
+                              const LifecycleOptions& o) {
+  return life.state == TrackState::kConfirmed && !e.child &&
+         life.fit_support < o.research_below_fit_support &&
+         e.stamp - life.last_orientation_search >= o.orientation_search_interval_s &&
+         !e.queued_for_search;
 }
 
 double SunkInMap::since(double sunk_since, bool child, bool sunk, double stamp) {
@@ -109,7 +123,8 @@ bool DetectionAssociation::restarts(RefineStatus last_fit, bool placed_by_weak_f
   return last_fit != RefineStatus::kOk && !placed_by_weak_fit;
 }
 
-bool RestartContest::detectionWins(std::size_t winner, double winner_inlier_ratio, const LifecycleOptions& o) {
+bool RestartContest::detectionWins(std::size_t winner, double winner_inlier_ratio,
+                                   const LifecycleOptions& o) {
   // A false detection beside a hidden object fits the edge of what hides it with a quarter of
   // its rays, and more inliers than the hidden track has.
   return winner == 1 && winner_inlier_ratio >= o.confirm_inlier_ratio;
@@ -117,7 +132,8 @@ bool RestartContest::detectionWins(std::size_t winner, double winner_inlier_rati
 
 FitUse useOfFit(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o) {
   if (WeakFitPlacement::places(life.state, e.child, e.fit, o)) return FitUse::kPlace;
-  if (e.fit.status == RefineStatus::kOk && !LostTrackResume::rejects(life, e, o)) return FitUse::kUpdate;
+  if (e.fit.status == RefineStatus::kOk && !LostTrackResume::rejects(life, e, o))
+    return FitUse::kUpdate;
   return FitUse::kCoast;
 }
 
@@ -126,9 +142,15 @@ Transition next(const TrackLife& life, const TrackEvidence& e, const LifecycleOp
   t.life = life;
   t.fit_use = useOfFit(life, e, o);
   switch (t.fit_use) {
-    case FitUse::kPlace: t.life.absent_since = -1.0; break;
-    case FitUse::kUpdate: takeGoodFit(t, life, e, o); break;
-    case FitUse::kCoast: coast(t, life, e, o); break;
+    case FitUse::kPlace:
+      t.life.absent_since = -1.0;
+      break;
+    case FitUse::kUpdate:
+      takeGoodFit(t, life, e, o);
+      break;
+    case FitUse::kCoast:
+      coast(t, life, e, o);
+      break;
   }
   t.life.sunk_since = SunkInMap::since(t.life.sunk_since, e.child, e.sunk, e.stamp);
   t.remove = Removal::removes(t.life, e.stamp, o);
