@@ -89,6 +89,9 @@ PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector
   // the tighter of the two (a no-op when measured to the surface).
   e.add_s = std::min(e.add_s, e.add);
   e.correct = e.add_s < 0.1 * object.diameter;
+  // Without declared symmetries, sampled() is the identity alone and `add` is the plain ADD.
+  e.add_or_adds = object.symmetry.any() ? e.add_s : e.add;
+  e.correct_add_or_adds = e.add_or_adds < 0.1 * object.diameter;
   return e;
 }
 

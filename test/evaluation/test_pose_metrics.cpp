@@ -49,6 +49,13 @@ TEST(PoseMetrics, DiscreteSymmetryAwareErrors) {
   const PoseErrors p = poseErrors(plain, kCross, rotZ(183), rotZ(0));
   EXPECT_NEAR(p.rotation_deg, 177.0, 1e-6);
   EXPECT_NEAR(p.add, 2.0 * std::sin(88.5 * M_PI / 180.0), 1e-6);  // chord of 177 deg
+  // The honest error: ADD-S for the class with a declared symmetry, ADD for the plain one.
+  EXPECT_DOUBLE_EQ(e.add_or_adds, e.add_s);
+  EXPECT_TRUE(e.correct_add_or_adds);
+  EXPECT_DOUBLE_EQ(p.add_or_adds, p.add);
+  EXPECT_NEAR(p.add_s, 0.0, 0.06);      // the half-turned set still covers itself ...
+  EXPECT_TRUE(p.correct);               // ... so ADD-S forgives the turn,
+  EXPECT_FALSE(p.correct_add_or_adds);  // ADD does not
 }
 
 TEST(PoseMetrics, SparseSamplesOfASymmetricObjectDoNotInflateAddS) {
@@ -106,6 +113,10 @@ TEST(PoseMetrics, NearTwinOfTheMaterialBoxIsCloseToTheSurface) {
   EXPECT_GT(exact.add_s, 0.0);
   EXPECT_GT(sampled.add_s, 3.0 * exact.add_s);
   EXPECT_GT(exact.add, 0.05);  // ADD still sees the half turn
+  // It declares no symmetry: its latch and label are on the wrong side, and honest scoring says so.
+  EXPECT_TRUE(exact.correct);
+  EXPECT_DOUBLE_EQ(exact.add_or_adds, exact.add);
+  EXPECT_FALSE(exact.correct_add_or_adds);
 }
 
 TEST(PoseMetrics, ContinuousSymmetryOnlyCountsTheAxisTilt) {

@@ -11,6 +11,7 @@ PoseErrors errors(double add_s_m, double add_m, bool correct) {
   PoseErrors e;
   e.add_s = add_s_m, e.add = add_m, e.translation = add_m, e.rotation_deg = 1.0,
   e.correct = correct;
+  e.add_or_adds = add_m, e.correct_add_or_adds = correct && add_m < 0.004;  // as for a plain class
   return e;
 }
 
@@ -37,9 +38,11 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   r.addPresegmentation(c);
   const std::string j = r.json();
   EXPECT_TRUE(has(j, "\"frames\": 4"));
-  EXPECT_TRUE(has(j, "\"add_s_mean_mm\": 12")) << j;    // (2 + 4 + 30) / 3
-  EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;      // (3 + 5 + 40) / 3
-  EXPECT_TRUE(has(j, "\"recall_adds_10\": 0.5")) << j;  // 2 correct of 4 evaluated
+  EXPECT_TRUE(has(j, "\"add_s_mean_mm\": 12")) << j;            // (2 + 4 + 30) / 3
+  EXPECT_TRUE(has(j, "\"add_mean_mm\": 16")) << j;              // (3 + 5 + 40) / 3
+  EXPECT_TRUE(has(j, "\"recall_adds_10\": 0.5")) << j;          // 2 correct of 4 evaluated
+  EXPECT_TRUE(has(j, "\"add_or_adds_mean_mm\": 16")) << j;      // ADD: no declared symmetry
+  EXPECT_TRUE(has(j, "\"recall_add_or_adds_10\": 0.25")) << j;  // 1 correct of 4 evaluated
   EXPECT_TRUE(has(j, "\"missed\": 1"));
   EXPECT_TRUE(has(j, "\"out_of_view\": 2"));
   EXPECT_TRUE(has(j, "\"identity_switches\": 1"));
@@ -53,8 +56,9 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
         "\"presegmentation\"", "\"timing\"", "\"frame_ms_p95\""})
     EXPECT_TRUE(has(j, key)) << key;
   EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 4 | 1 | 2 |"));
-  EXPECT_TRUE(has(r.markdown(), " | 0.500 |\n")) << "recall with 3 digits (the goal is 0.99)\n"
-                                                 << r.markdown();
+  EXPECT_TRUE(has(r.markdown(), " | 0.500 | 16.00 | 0.250 |\n"))
+      << "recall with 3 digits (the goal is 0.99)\n"
+      << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
 }
 

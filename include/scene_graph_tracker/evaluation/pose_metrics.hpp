@@ -51,6 +51,10 @@ struct PoseErrors {
   double translation = 0.0;   // |t_est - t_true| (m)
   double rotation_deg = 0.0;  // smallest angle between R_est and R_true S over the symmetries S
   bool correct = false;       // ADD-S < 10 % of the diameter (BOP recall criterion)
+  // The honest error: ADD for a class without declared symmetries (a box turned by 180 deg is
+  // wrong), ADD-S for one with them (BOP, PoseCNN); and whether it is below 10 % of the diameter.
+  double add_or_adds = 0.0;
+  bool correct_add_or_adds = false;
 };
 
 // Everything for one estimate of an object of class `object` (its mesh sampled with
