@@ -33,6 +33,11 @@ void FrameAssembler::addHypotheses(
   if (hypotheses) pushRecent(hypotheses_, hypotheses, options_.max_buffered_hypotheses);
 }
 
+void FrameAssembler::clear() {
+  clouds_.clear();
+  hypotheses_.clear();
+}
+
 AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth,
                                         const sensor_msgs::CameraInfo& info) {
   AssembledFrame out;

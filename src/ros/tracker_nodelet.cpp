@@ -86,11 +86,11 @@ void TrackerNodelet::onInit() {
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  stamps_ = StampOrder(p.node.max_time_jitter);
   assembler_ = std::make_unique<FrameAssembler>(
       assemblerOptions(p.node),
       [this](const std::string& target, const std::string& source, const ::ros::Time& t) {
-        return toEigen(
-            tf_buffer_->lookupTransform(target, source, t, ::ros::Duration(0.05)).transform);
+        return toEigen(tf_buffer_->lookupTransform(target, source, t).transform);  // no wait
       });
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
   objects_pub_ = pnh.advertise<scene_graph_tracker::TrackedObjectArray>("tracked_objects", 5);
@@ -139,31 +139,64 @@ void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArray
 
 void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
                              const sensor_msgs::CameraInfoConstPtr& info) {
+  waitForTransforms(*depth);
   std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.frames_in;
   const ::ros::Time stamp = depth->header.stamp;
-  if (!last_stamp_.isZero() && stamp < last_stamp_) {
-    NODELET_WARN("tracker: time went back by %.3f s (bag loop or clock reset): tracks reset",
-                 (last_stamp_ - stamp).toSec());
-    pipeline_->reset();
-  }
-  last_stamp_ = stamp;
+  if (!acceptStamp(stamp)) return;
   AssembledFrame frame;
   try {
     frame = assembler_->assemble(*depth, *info);
   } catch (const std::exception& e) {
+    ++counts_.skipped;
     warn(std::string("depth frame skipped: ") + e.what());
     publishDiagnostics(std::string("depth frame skipped: ") + e.what(), nullptr);
     return;
   }
+  counts_.warnings += frame.warnings.size();
   for (const std::string& w : frame.warnings) warn(w);
   try {  // a failure costs this frame, never the nodelet manager
     const PipelineResult r = pipeline_->process(std::move(frame.frame));
+    counts_.hypotheses_over_limits += r.hypotheses_over_limits;
     publish(r, stamp);
+    ++counts_.processed;
     publishDiagnostics("", &r);
   } catch (const std::exception& e) {
+    ++counts_.failed;
     warn(std::string("frame at ") + std::to_string(stamp.toSec()) + " failed: " + e.what());
     publishDiagnostics(std::string("frame failed: ") + e.what(), nullptr);
   }
+}
+
+// Waits (up to 50 ms each) for the transforms an image needs before the lock is taken: TF often
+// arrives a little after the image, and the other callbacks must not wait for it. The assembler
+// then looks them up without waiting.
+void TrackerNodelet::waitForTransforms(const sensor_msgs::Image& depth) {
+  const ::ros::Duration wait(0.05);
+  tf_buffer_->canTransform(odom_frame_, base_frame_, depth.header.stamp, wait);
+  tf_buffer_->canTransform(odom_frame_, depth.header.frame_id, depth.header.stamp, wait);
+}
+
+bool TrackerNodelet::acceptStamp(const ::ros::Time& stamp) {
+  switch (stamps_.check(stamp.toSec())) {
+    case StampVerdict::kProcess:
+      return true;
+    case StampVerdict::kDuplicate:
+      ++counts_.duplicates;
+      warn("depth image with the stamp of the last one dropped");
+      return false;
+    case StampVerdict::kJitter:
+      ++counts_.out_of_order;
+      warn("depth image older than the last one dropped (out of order)");
+      return false;
+    case StampVerdict::kJumpBack:
+      ++counts_.time_jumps;
+      NODELET_WARN("tracker: time went back (bag loop or clock reset): tracks reset");
+      pipeline_->reset();
+      assembler_->clear();
+      return true;
+  }
+  return false;
 }
 
 void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) {
@@ -299,6 +332,17 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
     x.key = k, x.value = v;
     s.values.push_back(x);
   };
+  const Counts& c = counts_;
+  for (const auto& [key, n] : {std::pair<const char*, std::size_t>{"frames_in", c.frames_in},
+                               {"frames_processed", c.processed},
+                               {"frames_skipped", c.skipped},
+                               {"frames_failed", c.failed},
+                               {"duplicate_stamps", c.duplicates},
+                               {"out_of_order", c.out_of_order},
+                               {"time_jumps", c.time_jumps},
+                               {"input_warnings", c.warnings},
+                               {"hypotheses_over_limits", c.hypotheses_over_limits}})
+    kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));
     kv("frame_ms", std::to_string(r->times.total_ms));

@@ -5,6 +5,7 @@
 // false detection.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
 #include <tuple>
 
@@ -468,6 +469,35 @@ TEST(FramePipeline, ManyCorrectionsKeepMapToOdomRigidAndTheRobotLocalized) {
   EXPECT_LT(worst_orthonormality, 1e-9);
   EXPECT_EQ(localized, frames);
   EXPECT_LT(worst_error, 0.005);
+}
+
+}  // namespace
+}  // namespace sgt
+
+namespace sgt {
+namespace {
+
+TEST(FramePipeline, AFloodOfHypothesesIsBoundedAndCounted) {
+  auto catalog = std::make_shared<ObjectCatalog>(
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml"));
+  PipelineOptions options;
+  options.max_hypotheses_per_frame = 30, options.max_tracks = 20, options.max_tracks_per_class = 8;
+  FramePipeline pipeline(catalog, std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), options);
+  PipelineFrame flood;
+  const std::vector<std::string> classes = catalog->names();
+  for (int i = 0; i < 10000; ++i) {  // 1 m apart: no two associate
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(i % 100, i / 100, 0.0);
+    flood.hypotheses.push_back({classes[i % classes.size()], T, 0.5 + 0.4 * i / 10000.0});
+  }
+  const PipelineResult r = pipeline.process(flood);
+  EXPECT_LE(r.objects.size(), 20u);
+  std::map<std::string, int> per_class;
+  for (const TrackedObject& o : r.objects) {
+    EXPECT_LE(++per_class[o.class_name], 8) << o.class_name;
+    EXPECT_GE(o.T_map_object.translation().y(), 99.0);  // from the best-scored (the last) ones
+  }
+  EXPECT_EQ(r.hypotheses_over_limits, 10000u - r.objects.size());  // nothing silently lost
 }
 
 }  // namespace

@@ -75,8 +75,10 @@ struct PipelineResult {
   LocalizeResult localization;
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
-  std::vector<TrackedObject> objects;            // after refinement (removed tracks are not listed)
-  std::vector<std::string> dropped;              // ids removed this frame
+  std::vector<TrackedObject> objects;  // after refinement (removed tracks are not listed)
+  std::vector<std::string> dropped;    // ids removed this frame
+  // Hypotheses left out by max_hypotheses_per_frame, max_tracks or max_tracks_per_class.
+  std::size_t hypotheses_over_limits = 0;
   std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
   std::vector<RangeMeasurements> measurements;   // in the map frame, as used
   StageTimes times;
@@ -124,11 +126,12 @@ class FramePipeline {
   void localize(PipelineFrame& frame, PipelineResult& out);
   std::vector<RangeMeasurements> localizationSets(const std::vector<RangeMeasurements>& sets) const;
   std::vector<RangeMeasurements> objectSets(const std::vector<RangeMeasurements>& sets) const;
-  std::vector<PoseHypothesis> acceptedHypotheses(
-      const std::vector<PoseHypothesis>& hypotheses) const;
+  std::vector<PoseHypothesis> acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses,
+                                                 std::size_t& over_limit) const;
+  bool roomForTrack(const std::string& class_name) const;  // max_tracks, max_tracks_per_class
   void predict(double stamp);
   void associate(const std::vector<PoseHypothesis>& hypotheses, const Eigen::Isometry3d& T_map_base,
-                 double stamp);
+                 double stamp, std::size_t& over_limit);
   void refineTracks(const std::vector<RangeMeasurements>& sets, double stamp,
                     std::vector<std::string>& dropped);
   void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);

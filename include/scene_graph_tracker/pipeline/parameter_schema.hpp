@@ -66,8 +66,9 @@ struct TrackerNodeOptions {
   bool publish_map_odom = true;
   bool publish_object_tf = false;
   double hypothesis_max_age = 0.1;
-  std::string static_map;  // required: the static world as a mesh or URDF
-  std::string furniture;   // optional: named boxes for relations (relations/furniture.hpp)
+  double max_time_jitter = 1.0;  // s (ros/stamp_order.hpp)
+  std::string static_map;        // required: the static world as a mesh or URDF
+  std::string furniture;         // optional: named boxes for relations (relations/furniture.hpp)
   std::string catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
   std::string mesh_dir;
   // The LiDAR's rays (columns over one turn, rings from min to max elevation); the VLP-16's.

@@ -28,6 +28,11 @@ struct PipelineOptions {
   // much as a thin object's radius) only when the frame has no depth image or when this is set.
   bool refine_with_lidar = false;
   double min_hypothesis_score = 0.3;
+  // Bounds against a flood of hypotheses: the best-scored this many per frame are used (in their
+  // order), and no track is started beyond the totals; what is left out is counted.
+  int max_hypotheses_per_frame = 100;
+  int max_tracks = 200;
+  int max_tracks_per_class = 50;
   double association_distance = 0.15;  // m, hypothesis to a track's prediction (same class)
   double reacquire_distance = 0.6;     // m, for tracks that are not currently refined well
   int confirm_hits = 3;                // good refinements that confirm a tentative track ...

@@ -58,6 +58,7 @@ class FrameAssembler {
   }
   void addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
   void addHypotheses(const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses);
+  void clear();  // forget the buffered scans and hypotheses (time went back)
   // The frame of a depth image. Throws when the image cannot be used (no frame then); a scan that
   // cannot be used is left out with a warning.
   AssembledFrame assemble(const sensor_msgs::Image& depth, const sensor_msgs::CameraInfo& info);

@@ -39,6 +39,7 @@
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
+#include "scene_graph_tracker/ros/stamp_order.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
 
 namespace sgt::ros {
@@ -70,6 +71,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   static sensor_msgs::PointCloud2 unassignedPoints(const PipelineResult& r,
                                                    const std_msgs::Header& header);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
+  bool acceptStamp(const ::ros::Time& stamp);  // stamps_: in order, or reset once on a jump back
+  void waitForTransforms(const sensor_msgs::Image& depth);
   void warn(const std::string& text);
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);
 
@@ -78,7 +81,12 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::mutex mutex_;  // pipeline_ and assembler_
   std::string map_frame_, odom_frame_, base_frame_;
   bool publish_map_odom_{}, publish_object_tf_{};  // params::TrackerNodeOptions (onInit)
-  ::ros::Time last_stamp_;
+  StampOrder stamps_;
+  // What came in and what became of it, in /diagnostics.
+  struct Counts {
+    std::size_t frames_in = 0, processed = 0, skipped = 0, failed = 0, duplicates = 0,
+                out_of_order = 0, time_jumps = 0, warnings = 0, hypotheses_over_limits = 0;
+  } counts_;
   WarningThrottle warnings_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;

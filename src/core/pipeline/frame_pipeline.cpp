@@ -55,7 +55,8 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   // 2. Predict the tracks to this frame and assign the hypotheses to them.
   clock.run(out.times.associate_ms, [&] {
     predict(frame.stamp);
-    associate(acceptedHypotheses(frame.hypotheses), out.T_map_base, frame.stamp);
+    const auto accepted = acceptedHypotheses(frame.hypotheses, out.hypotheses_over_limits);
+    associate(accepted, out.T_map_base, frame.stamp, out.hypotheses_over_limits);
     scene_.commit();
   });
   // 3. Refine every track from its prediction, then advance the track life cycles.
@@ -119,13 +120,27 @@ std::vector<RangeMeasurements> FramePipeline::objectSets(
 }
 
 std::vector<PoseHypothesis> FramePipeline::acceptedHypotheses(
-    const std::vector<PoseHypothesis>& hypotheses) const {
+    const std::vector<PoseHypothesis>& hypotheses, std::size_t& over_limit) const {
   std::vector<PoseHypothesis> accepted;
   for (const PoseHypothesis& h : hypotheses)
     if (h.score >= options_.min_hypothesis_score && catalog_->contains(h.class_name) &&
         h.T_base_object.matrix().allFinite())
       accepted.push_back(h);
-  return accepted;
+  const std::size_t limit =
+      static_cast<std::size_t>(std::max(0, options_.max_hypotheses_per_frame));
+  if (accepted.size() <= limit) return accepted;
+  // The best-scored `limit`, in their order.
+  std::vector<std::size_t> order(accepted.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return accepted[a].score > accepted[b].score;
+  });
+  order.resize(limit);
+  std::sort(order.begin(), order.end());
+  std::vector<PoseHypothesis> best;
+  for (std::size_t i : order) best.push_back(accepted[i]);
+  over_limit += accepted.size() - limit;
+  return best;
 }
 
 void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, double stamp,

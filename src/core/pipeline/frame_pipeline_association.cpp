@@ -55,7 +55,8 @@ Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis
 }
 
 void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
-                              const Eigen::Isometry3d& T_map_base, double stamp) {
+                              const Eigen::Isometry3d& T_map_base, double stamp,
+                              std::size_t& over_limit) {
   const double forbidden = std::numeric_limits<double>::max();
   std::vector<Eigen::Isometry3d> in_map(hypotheses.size());
   for (std::size_t h = 0; h < hypotheses.size(); ++h)
@@ -64,6 +65,10 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
       assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     if (match[h] < 0) {  // a new object, or a false detection: a tentative track either way
+      if (!roomForTrack(hypotheses[h].class_name)) {
+        ++over_limit;
+        continue;
+      }
       addTrack(hypotheses[h].class_name, in_map[h], stamp);
       tracks_.back().life.detections = 1;
       continue;
@@ -74,6 +79,14 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
     if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
       restartFromDetection(t, in_map[h]);
   }
+}
+
+bool FramePipeline::roomForTrack(const std::string& class_name) const {
+  if (tracks_.size() >= static_cast<std::size_t>(std::max(0, options_.max_tracks))) return false;
+  const auto of_class = std::count_if(tracks_.begin(), tracks_.end(), [&](const Track& t) {
+    return t.out.class_name == class_name;
+  });
+  return of_class < options_.max_tracks_per_class;
 }
 
 void FramePipeline::restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object) {
