@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace sgt::ros {
 
@@ -50,6 +51,15 @@ geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
 PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min, float range_max) {
   if (info.width == 0 || info.height == 0)
     throw ConversionError("camera_info has a zero image size");
+  // Larger than any camera: rays for it would take gigabytes before the image is even looked at.
+  constexpr std::uint64_t kMaxSide = 16384, kMaxPixels = 64ull << 20;
+  if (info.width > kMaxSide || info.height > kMaxSide ||
+      std::uint64_t(info.width) * info.height > kMaxPixels)
+    throw ConversionError("camera_info image size " + std::to_string(info.width) + "x" +
+                          std::to_string(info.height) + " is beyond any camera");
+  if (!std::isfinite(info.K[0]) || !std::isfinite(info.K[4]) || !std::isfinite(info.K[2]) ||
+      !std::isfinite(info.K[5]))
+    throw ConversionError("camera_info K is not finite");
   if (!(info.K[0] > 0.0) || !(info.K[4] > 0.0))
     throw ConversionError("camera_info has no focal length (K[0] = " + std::to_string(info.K[0]) +
                           ", K[4] = " + std::to_string(info.K[4]) + ")");
@@ -117,36 +127,72 @@ sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, in
   return img;
 }
 
-std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
-                                   const SpinningLidarModel& model) {
+namespace {
+
+// Where x, y and z are in each point, checked against the message's own sizes: a malformed cloud
+// is rejected with a reason, never read out of bounds.
+struct CloudLayout {
+  std::uint32_t offset[3] = {0, 0, 0};
+  std::size_t points = 0;
+};
+
+CloudLayout cloudLayout(const sensor_msgs::PointCloud2& cloud) {
+  CloudLayout l;
   bool has[3] = {false, false, false};
   for (const auto& f : cloud.fields)
     for (int k = 0; k < 3; ++k)
       if (f.name == std::string(1, "xyz"[k])) {
         if (f.datatype != sensor_msgs::PointField::FLOAT32)
           throw ConversionError("point cloud field '" + f.name + "' is not float32");
-        has[k] = true;
+        if (std::uint64_t(f.offset) + 4 > cloud.point_step)
+          throw ConversionError("point cloud field '" + f.name + "' lies beyond point_step");
+        has[k] = true, l.offset[k] = f.offset;
       }
   if (!has[0] || !has[1] || !has[2])
     throw ConversionError("point cloud has no x, y, z float32 fields");
-  const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
-  if (cloud.data.size() < n * cloud.point_step)
-    throw ConversionError("point cloud data is shorter than width x height x point_step");
+  const std::uint64_t row = std::uint64_t(cloud.width) * cloud.point_step;
+  if (cloud.height > 0 && cloud.width > 0 && cloud.row_step < row)
+    throw ConversionError("point cloud row_step is shorter than width x point_step");
+  const std::uint64_t needed =
+      cloud.height == 0 ? 0 : std::uint64_t(cloud.height - 1) * cloud.row_step + row;
+  if (cloud.data.size() < needed)
+    throw ConversionError("point cloud data is shorter than its rows");
+  l.points = std::size_t(cloud.width) * cloud.height;
+  return l;
+}
+
+float readFloat(const std::uint8_t* p, bool swap) {
+  std::uint8_t b[4] = {p[0], p[1], p[2], p[3]};
+  if (swap) std::swap(b[0], b[3]), std::swap(b[1], b[2]);
+  float v;
+  std::memcpy(&v, b, sizeof v);
+  return v;
+}
+
+}  // namespace
+
+std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                   const SpinningLidarModel& model) {
+  const CloudLayout l = cloudLayout(cloud);
   const std::size_t size = static_cast<std::size_t>(model.columns) * model.rings;
   std::vector<float> ranges(size, std::numeric_limits<float>::quiet_NaN());
   const bool organized = cloud.height == static_cast<std::uint32_t>(model.rings) &&
                          cloud.width == static_cast<std::uint32_t>(model.columns);
-  sensor_msgs::PointCloud2ConstIterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  const bool swap = cloud.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
   const double phi_inc = model.phiInc() > 0 ? model.phiInc() : 1.0;
-  for (std::size_t i = 0; i < n; ++i, ++x, ++y, ++z) {
-    const float r = std::sqrt(*x * *x + *y * *y + *z * *z);
+  for (std::size_t i = 0; i < l.points; ++i) {
+    const std::uint8_t* p = cloud.data.data() + (i / cloud.width) * std::size_t(cloud.row_step) +
+                            (i % cloud.width) * std::size_t(cloud.point_step);
+    const float x = readFloat(p + l.offset[0], swap), y = readFloat(p + l.offset[1], swap),
+                z = readFloat(p + l.offset[2], swap);
+    const float r = std::sqrt(x * x + y * y + z * z);
     if (!std::isfinite(r) || r <= 0.0f) continue;
     std::size_t cell = i;
     if (!organized) {
       const int ring = static_cast<int>(
-          std::lround((std::atan2(*z, std::hypot(*x, *y)) - model.phi_min) / phi_inc));
+          std::lround((std::atan2(z, std::hypot(x, y)) - model.phi_min) / phi_inc));
       int col =
-          static_cast<int>(std::lround((std::atan2(*y, *x) - model.theta_min) / model.theta_inc));
+          static_cast<int>(std::lround((std::atan2(y, x) - model.theta_min) / model.theta_inc));
       col = ((col % model.columns) + model.columns) % model.columns;
       if (ring < 0 || ring >= model.rings) continue;
       cell = static_cast<std::size_t>(ring) * model.columns + col;

@@ -51,11 +51,14 @@ AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth,
 void FrameAssembler::addDepth(AssembledFrame& out, const sensor_msgs::Image& depth,
                               const sensor_msgs::CameraInfo& info) {
   const PinholeModel cam = toPinhole(info);
+  std::vector<float> ranges =
+      depthFromImage(depth, cam);  // checks the image against the info first
   const ::ros::Time& stamp = depth.header.stamp;
   out.frame.T_odom_base = lookup_(options_.odom_frame, options_.base_frame, stamp);
-  out.frame.measurements.push_back(fromDepthImage(
-      cam, camera_rays_.rays(cam), depthFromImage(depth, cam),
-      lookup_(options_.odom_frame, depth.header.frame_id, stamp), depth.header.frame_id));
+  const Eigen::Isometry3d T_odom_camera =
+      lookup_(options_.odom_frame, depth.header.frame_id, stamp);
+  out.frame.measurements.push_back(fromDepthImage(cam, camera_rays_.rays(cam), std::move(ranges),
+                                                  T_odom_camera, depth.header.frame_id));
 }
 
 void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth) {

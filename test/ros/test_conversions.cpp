@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
 
+#include <algorithm>
+
 #include "scene_graph_tracker/ros/conversions.hpp"
 
 namespace sgt::ros {
@@ -99,6 +101,66 @@ TEST(Conversions, LidarCloudOrganizedAndUnorganized) {
   EXPECT_EQ(same, total);
   sensor_msgs::PointCloud2 no_xyz;
   EXPECT_THROW(rangesFromCloud(no_xyz, model), ConversionError);
+}
+
+// An organized cloud of `model` with a return of `range` on every ray.
+sensor_msgs::PointCloud2 fullCloud(const SpinningLidarModel& model, float range) {
+  const SensorRays rays = makeRays(model);
+  return cloudFromRanges(std::vector<float>(rays.size(), range), rays, {});
+}
+
+TEST(Conversions, MalformedCloudsAreRejectedNotReadOutOfBounds) {
+  SpinningLidarModel model;
+  model.columns = 36, model.rings = 4, model.theta_inc = 2.0 * M_PI / 36;
+  const sensor_msgs::PointCloud2 good = fullCloud(model, 2.0f);
+  ASSERT_EQ(rangesFromCloud(good, model).size(), 144u);
+  sensor_msgs::PointCloud2 bad = good;
+  bad.fields[2].offset = bad.point_step - 2;  // z straddles the end of the point
+  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  bad = good;
+  bad.point_step = 0;
+  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  bad = good;
+  bad.row_step = bad.width * bad.point_step - 1;
+  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  bad = good;
+  bad.width = bad.height = 1u << 31;  // width x height x point_step wraps in 32 bits
+  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  bad = good;
+  bad.data.resize(bad.data.size() - 1);
+  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+}
+
+TEST(Conversions, CloudsWithPaddedRowsAndBigEndianDataReadBack) {
+  SpinningLidarModel model;
+  model.columns = 36, model.rings = 4, model.theta_inc = 2.0 * M_PI / 36;
+  const sensor_msgs::PointCloud2 good = fullCloud(model, 2.0f);
+  sensor_msgs::PointCloud2 padded = good;  // 8 bytes of padding after every row
+  padded.row_step = good.row_step + 8;
+  padded.data.assign(std::size_t(padded.row_step) * padded.height, 0xAB);
+  for (std::uint32_t r = 0; r < good.height; ++r)
+    std::copy_n(good.data.begin() + r * good.row_step, good.row_step,
+                padded.data.begin() + r * padded.row_step);
+  sensor_msgs::PointCloud2 big = good;  // every field byte-swapped
+  big.is_bigendian = true;
+  for (std::size_t p = 0; p + big.point_step <= big.data.size(); p += big.point_step)
+    for (const auto& f : big.fields)
+      if (f.datatype == sensor_msgs::PointField::FLOAT32)
+        std::reverse(big.data.begin() + p + f.offset, big.data.begin() + p + f.offset + 4);
+  for (const sensor_msgs::PointCloud2* c : {&padded, &big}) {
+    const std::vector<float> r = rangesFromCloud(*c, model);
+    for (float v : r) EXPECT_NEAR(v, 2.0f, 1e-5f);
+  }
+}
+
+TEST(Conversions, ACameraInfoBeyondAnyCameraIsRejectedBeforeAnythingIsAllocated) {
+  PinholeModel cam;
+  sensor_msgs::CameraInfo huge = toCameraInfo(cam);
+  huge.width = huge.height = 60000;
+  EXPECT_THROW(toPinhole(huge), ConversionError);
+  sensor_msgs::CameraInfo inf = toCameraInfo(cam);
+  inf.K[2] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(toPinhole(inf), ConversionError);
 }
 
 }  // namespace
