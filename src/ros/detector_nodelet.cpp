@@ -28,10 +28,8 @@ void DetectorNodelet::onInit() {
     throw;
   }
   for (const std::string& name : unknown)
-    NODELET_WARN(
-        "detector: ~%s is no parameter of the detector (ignored; see README \"Detector "
-        "parameters\")",
-        name.c_str());
+    NODELET_WARN("detector: ~%s is no parameter of the detector (ignored; see doc/parameters.md)",
+                 name.c_str());
   const std::string& model = p.model;
   const std::string& catalog_path = p.catalog;
   const std::string& mesh_dir = p.mesh_dir;

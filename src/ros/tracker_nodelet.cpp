@@ -59,9 +59,8 @@ void TrackerNodelet::onInit() {
     throw;
   }
   for (const std::string& name : unknown)
-    NODELET_WARN(
-        "tracker: ~%s is no parameter of the tracker (ignored; see README \"Tracker parameters\")",
-        name.c_str());
+    NODELET_WARN("tracker: ~%s is no parameter of the tracker (ignored; see doc/parameters.md)",
+                 name.c_str());
   map_frame_ = p.node.map_frame, odom_frame_ = p.node.odom_frame, base_frame_ = p.node.base_frame;
   publish_map_odom_ = p.node.publish_map_odom, publish_object_tf_ = p.node.publish_object_tf;
   const PipelineOptions& o = p.pipeline;

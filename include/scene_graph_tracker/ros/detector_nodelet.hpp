@@ -9,7 +9,7 @@
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
 // (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
 // nodelet warns. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
-// config/detector.yaml, README "Detector parameters"; read at start.
+// config/detector.yaml, doc/parameters.md; read at start.
 // Bad input is warned about (throttled) and skipped; the nodelet keeps running.
 #pragma once
 

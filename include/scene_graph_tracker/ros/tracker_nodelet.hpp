@@ -7,7 +7,7 @@
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
 // map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
 // ~add_track, ~remove_track. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
-// config/tracker.yaml, README "Tracker parameters"; most also at run time (dynamic_reconfigure,
+// config/tracker.yaml, doc/parameters.md; most also at run time (dynamic_reconfigure,
 // cfg/Tracker.cfg).
 #pragma once
 

@@ -184,7 +184,7 @@ std::string trackerYaml() {
 # (--params: this file by default). The values are the defaults of the option structs.
 # Generated from the parameter schema (src/core/pipeline/parameter_schema.cpp) by `make params`:
 # change defaults there. A robot with other values keeps its own copy (tracker.launch params:=FILE).
-# Types, ranges and run-time changes: README "Tracker parameters".
+# Types, ranges and run-time changes: doc/parameters.md.
 )");
 }
 
@@ -195,7 +195,7 @@ std::string detectorYaml() {
 # --detector` (--detector-params: this file by default). The values are the defaults of the option
 # structs. Generated from the parameter schema (src/core/pipeline/parameter_schema.cpp) by `make
 # params`: change defaults there. A robot with other values keeps its own copy (tracker.launch
-# detector_params:=FILE). Types and ranges: README "Detector parameters".
+# detector_params:=FILE). Types and ranges: doc/parameters.md.
 )");
 }
 
