@@ -4,20 +4,9 @@
 # ROS_DISTRO from rosversion ("Debian") when unset; the ROS packages it checks against are found in
 # /usr/share. Exits 1 on any problem.
 #   scripts/check-catkin-lint.sh [--xml=RESULT.xml]   (also writes the result as a JUnit test case)
-set -uo pipefail
-export PATH=/usr/bin:/bin:$PATH
-root="$(cd "$(dirname "$0")/.." && pwd)"
-xml=""
-for a in "$@"; do
-  case "$a" in
-    --xml=*) xml="${a#--xml=}" ;;
-    *) echo "usage: $0 [--xml=RESULT.xml]" >&2; exit 2 ;;
-  esac
-done
+source "$(dirname "$0")/check_common.sh" "$@"
 export ROS_DISTRO="${ROS_DISTRO:-$(rosversion -d 2>/dev/null || echo Debian)}"
-report="$(mktemp)"
 out=""
-trap 'rm -f "$report"' EXIT
 if ! command -v catkin_lint >/dev/null; then
   echo "catkin_lint not found (Debian package catkin-lint)" | tee "$report"
 else
@@ -28,5 +17,4 @@ else
   echo "$out"
   [ $status -ne 0 ] && echo "catkin_lint found problems in $root (exit $status):"$'\n'"$out" > "$report"
 fi
-[ -n "$xml" ] && /usr/bin/python3 "$root/scripts/junit_case.py" "$xml" style catkin_lint "$report"
-[ ! -s "$report" ]
+finish catkin_lint

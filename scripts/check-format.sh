@@ -4,19 +4,8 @@
 # nothing; lists the files whose formatting differs and exits 1 when there are any.
 #   scripts/check-format.sh [--xml=RESULT.xml]   (also writes the result as a JUnit test case)
 # To fix a file: clang-format -i FILE.
-set -uo pipefail
-export PATH=/usr/bin:/bin:$PATH
-root="$(cd "$(dirname "$0")/.." && pwd)"
-xml=""
-for a in "$@"; do
-  case "$a" in
-    --xml=*) xml="${a#--xml=}" ;;
-    *) echo "usage: $0 [--xml=RESULT.xml]" >&2; exit 2 ;;
-  esac
-done
+source "$(dirname "$0")/check_common.sh" "$@"
 cd "$root"
-report="$(mktemp)"
-trap 'rm -f "$report"' EXIT
 if ! command -v clang-format >/dev/null; then
   echo "clang-format not found (Debian package clang-format)" > "$report"
 else
@@ -40,5 +29,4 @@ else
   echo "clang-format: ${#files[@]} files checked, ${#bad[@]} not formatted"
 fi
 [ -s "$report" ] && cat "$report"
-[ -n "$xml" ] && /usr/bin/python3 "$root/scripts/junit_case.py" "$xml" style clang_format "$report"
-[ ! -s "$report" ]
+finish clang_format
