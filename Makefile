@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo latency model params clean
+.PHONY: deps build test bench demo suite latency model params clean
 
 deps:
 	@scripts/install-deps.sh
@@ -42,6 +42,22 @@ demo: build
 	$(TOOLS)/evaluate --bag $(DEMO_DIR)/workbench.bag --output $(DEMO_DIR) --scenario $(DEMO_SCENARIO) \
 	  --map $(DEMO_DIR)/static_map.ply --furniture $(DEMO_DIR)/furniture.yaml \
 	  $(if $(DEMO_DETECTOR),--detector $(DEMO_DETECTOR)) $(DEMO_EVALUATE_ARGS)
+
+# The scenario suite: SUITE_COUNT generated scenarios (generate_scenarios --seed SUITE_SEED), each
+# simulated, scored (its bag deleted once scored), SUITE_JOBS at a time; summary in SUITE_DIR
+# (summary.json, summary.md, recall.png). SUITE_DETECTOR= scores the simulated hypotheses,
+# SUITE_DETECTOR=default the package's detector; SUITE_MESH_DIR= the package's meshes, or e.g.
+# ../shared/data/pbr_objects/meshes.
+SUITE_COUNT ?= 20
+SUITE_SEED ?= 1
+SUITE_DETECTOR ?=
+SUITE_MESH_DIR ?=
+SUITE_JOBS ?= 2
+SUITE_DIR ?= $(BUILD)/suite
+suite: build
+	@/usr/bin/python3 scripts/suite.py --tools $(TOOLS) --output $(SUITE_DIR) --count $(SUITE_COUNT) \
+	  --seed $(SUITE_SEED) --jobs $(SUITE_JOBS) $(if $(SUITE_DETECTOR),--detector $(SUITE_DETECTOR)) \
+	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR))
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build

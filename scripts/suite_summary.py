@@ -1,0 +1,170 @@
+"""Summaries of the scenario suite (scripts/suite.py): statistics over the scenarios' report.json
+files, by kind of scenario, as JSON, Markdown and a plot of the per-scenario recall."""
+import json
+import os
+import re
+import statistics
+
+# Keys where a smaller value is the worse one (recall-like); for every other numeric key (errors,
+# switches, false tracks, times, misses) the larger value is the worse one.
+LOWER_IS_WORSE = re.compile(r'(recall|precision|reduction|found|evaluated|frames|true_positives|'
+                            r'declared|valid_points)')
+HEADLINE = [('objects.recall_add_or_adds_10', 'ADD(-S) recall'),
+            ('objects.recall_adds_10', 'ADD-S recall'),
+            ('objects.add_or_adds_mean_mm', 'ADD(-S) mean (mm)'),
+            ('objects.rotation_error_mean_deg', 'rotation error (deg)'),
+            ('objects.identity_switches', 'identity switches'),
+            ('objects.false_tracks', 'false tracks'),
+            ('relations.precision', 'relation precision'),
+            ('relations.recall', 'relation recall'),
+            ('localization.translation_error_mean_mm', 'localization (mm)'),
+            ('timing.frame_ms_median', 'frame median (ms)')]
+
+
+def numeric_leaves(tree, prefix=''):
+    """Dotted name -> value for every number in a report, per_object subtrees left out."""
+    out = {}
+    for k, v in tree.items():
+        name = prefix + k
+        if k == 'per_object':
+            continue
+        if isinstance(v, dict):
+            out.update(numeric_leaves(v, name + '.'))
+        elif isinstance(v, (int, float)) and not isinstance(v, bool):
+            out[name] = v
+    return out
+
+
+def stats(name, values):
+    worst = min(values) if LOWER_IS_WORSE.search(name.split('.')[-1]) else max(values)
+    return {'median': statistics.median(values), 'worst': worst, 'mean': statistics.fmean(values)}
+
+
+def set_nested(tree, dotted, value):
+    *path, last = dotted.split('.')
+    for p in path:
+        tree = tree.setdefault(p, {})
+    tree[last] = value
+
+
+def get_nested(tree, dotted):
+    for p in dotted.split('.'):
+        if not isinstance(tree, dict) or p not in tree:
+            return None
+        tree = tree[p]
+    return tree
+
+
+def aggregate(reports):
+    values = {}
+    for r in reports:
+        for name, v in numeric_leaves(r).items():
+            values.setdefault(name, []).append(v)
+    out = {}
+    for name in sorted(values):
+        set_nested(out, name, stats(name, values[name]))
+    return out
+
+
+def summarise(entries, settings):
+    ok = [e for e in entries if 'report' in e]
+    summary = {'settings': settings, 'scenario_count': len(entries), 'failed': len(entries) - len(ok)}
+    summary.update(aggregate([e['report'] for e in ok]))
+    kinds = sorted({k for e in ok for k in e['kinds']})
+    summary['by_kind'] = {}
+    for kind in kinds:
+        reports = [e['report'] for e in ok if kind in e['kinds']]
+        figures = {'count': len(reports)}
+        for name, _ in HEADLINE:
+            vals = [v for v in (get_nested(r, name) for r in reports) if v is not None]
+            if vals:
+                figures[name] = stats(name, vals)
+        summary['by_kind'][kind] = figures
+    summary['scenarios'] = [{'name': e['name'], 'kinds': e['kinds'], 'status': e['status'],
+                             'seconds': e.get('seconds'), 'scenario': e['index'],
+                             'report': e.get('report')} for e in entries]
+    return summary
+
+
+def headline(summary):
+    parts = []
+    for name, label in HEADLINE[:6]:
+        s = get_nested(summary, name)
+        if s:
+            parts.append('%s median %.3g, worst %.3g' % (label, s['median'], s['worst']))
+    if summary['failed']:
+        parts.append('%d scenarios FAILED' % summary['failed'])
+    return '; '.join(parts)
+
+
+def fmt(v):
+    return '—' if v is None else ('%.3f' % v if isinstance(v, float) else str(v))
+
+
+def markdown(summary):
+    s = summary['settings']
+    lines = ['# Scenario suite', '',
+             '%d scenarios, seed %d, hypotheses: %s, meshes: %s. Failed: %d.' % (
+                 summary['scenario_count'], s['seed'], s['detector'] or 'simulated',
+                 s['mesh_dir'] or "the package's", summary['failed']), '',
+             '| figure | median | worst | mean |', '|---|---|---|---|']
+    for name, label in HEADLINE:
+        st = get_nested(summary, name)
+        if st:
+            lines.append('| %s (`%s`) | %s | %s | %s |' % (label, name, fmt(st['median']),
+                                                           fmt(st['worst']), fmt(st['mean'])))
+    lines += ['', '## By kind of scenario', '',
+              '| kind | scenarios | ADD(-S) recall median | worst | switches worst | '
+              'false tracks median |', '|---|---|---|---|---|---|']
+    for kind, f in summary['by_kind'].items():
+        r = f.get('objects.recall_add_or_adds_10', {})
+        sw = f.get('objects.identity_switches', {})
+        ft = f.get('objects.false_tracks', {})
+        lines.append('| %s | %d | %s | %s | %s | %s |' % (kind, f['count'], fmt(r.get('median')),
+                     fmt(r.get('worst')), fmt(sw.get('worst')), fmt(ft.get('median'))))
+    lines += ['', '## Scenarios', '',
+              '| scenario | kinds | ADD(-S) recall | ADD-S recall | switches | false tracks | '
+              'relations P / R | frame ms |', '|---|---|---|---|---|---|---|---|']
+    for e in summary['scenarios']:
+        r = e['report']
+        if r is None:
+            lines.append('| %s | %s | %s |||||' % (e['name'], ', '.join(e['kinds']), e['status']))
+            continue
+        o, rel = r['objects'], r.get('relations', {})
+        lines.append('| %s | %s | %s | %s | %d | %d | %s / %s | %s |' % (
+            e['name'], ', '.join(e['kinds']), fmt(o['recall_add_or_adds_10']),
+            fmt(o['recall_adds_10']), o['identity_switches'], o['false_tracks'],
+            fmt(rel.get('precision')), fmt(rel.get('recall')), fmt(r['timing']['frame_ms_median'])))
+    return '\n'.join(lines) + '\n'
+
+
+def plot(summary, path):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    done = [e for e in summary['scenarios'] if e['report']]
+    names = [e['name'].replace('scenario_', '') for e in done]
+    honest = [e['report']['objects']['recall_add_or_adds_10'] for e in done]
+    adds = [e['report']['objects']['recall_adds_10'] for e in done]
+    fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(done) + 2), 4))
+    x = range(len(done))
+    ax.bar([i - 0.2 for i in x], honest, 0.4, label='ADD(-S) < 0.1 d')
+    ax.bar([i + 0.2 for i in x], adds, 0.4, label='ADD-S < 0.1 d', alpha=0.6)
+    ax.set_xticks(list(x))
+    ax.set_xticklabels(names, rotation=90)
+    ax.set_ylim(0, 1.02)
+    ax.set_ylabel('recall')
+    ax.set_xlabel('scenario')
+    ax.set_title('Per-scenario recall (%s)' % (summary['settings']['detector'] or 'simulated hypotheses'))
+    ax.legend(loc='lower left')
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def write(summary, directory):
+    with open(os.path.join(directory, 'summary.json'), 'w') as f:
+        json.dump(summary, f, indent=1, sort_keys=False)
+    with open(os.path.join(directory, 'summary.md'), 'w') as f:
+        f.write(markdown(summary))
+    plot(summary, os.path.join(directory, 'recall.png'))

@@ -1,0 +1,83 @@
+#!/usr/bin/python3
+"""The suite's summary (scripts/suite_summary.py) on hand-made report.json figures.
+
+  /usr/bin/python3 test/python/test_suite_summary.py [--xml=RESULT.xml]
+"""
+import json
+import os
+import sys
+import tempfile
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'scripts'))
+import junit_runner  # noqa: E402
+import suite_summary  # noqa: E402
+
+
+def report(recall, switches, frame_ms, per_object_recall):
+    return {'frames': 600,
+            'objects': {'recall_add_or_adds_10': recall, 'recall_adds_10': min(1.0, recall + 0.1),
+                        'identity_switches': switches, 'false_tracks': 1,
+                        'per_object': {'relay_1': {'recall_adds_10': per_object_recall}},
+                        'false_positives_by_class': {'relay': switches}},
+            'relations': {'precision': 1.0, 'recall': recall},
+            'timing': {'frame_ms_median': frame_ms}}
+
+
+class SuiteSummaryTest(unittest.TestCase):
+    def setUp(self):
+        self.entries = [
+            {'name': 'scenario_001', 'kinds': ['carry', 'stack_same'], 'status': 'ok', 'index': {},
+             'report': report(0.9, 0, 20.0, 0.1)},
+            {'name': 'scenario_002', 'kinds': ['carry'], 'status': 'ok', 'index': {},
+             'report': report(0.5, 3, 30.0, 0.2)},
+            {'name': 'scenario_003', 'kinds': ['occlusion'], 'status': 'ok', 'index': {},
+             'report': report(0.7, 1, 25.0, 0.3)},
+            {'name': 'scenario_004', 'kinds': ['occlusion'], 'status': 'simulate failed', 'index': {}},
+        ]
+        self.summary = suite_summary.summarise(self.entries, {'count': 4, 'seed': 1, 'detector': '',
+                                                              'mesh_dir': ''})
+
+    def test_recall_like_keys_are_worst_at_their_minimum(self):
+        r = self.summary['objects']['recall_add_or_adds_10']
+        self.assertAlmostEqual(r['median'], 0.7)
+        self.assertAlmostEqual(r['worst'], 0.5)
+        self.assertAlmostEqual(r['mean'], 0.7)
+        self.assertAlmostEqual(self.summary['relations']['precision']['worst'], 1.0)
+
+    def test_errors_switches_and_times_are_worst_at_their_maximum(self):
+        self.assertEqual(self.summary['objects']['identity_switches']['worst'], 3)
+        self.assertEqual(self.summary['objects']['identity_switches']['median'], 1)
+        self.assertEqual(self.summary['timing']['frame_ms_median']['worst'], 30.0)
+        self.assertEqual(self.summary['objects']['false_positives_by_class']['relay']['worst'], 3)
+
+    def test_per_object_figures_are_not_aggregated(self):
+        self.assertNotIn('per_object', self.summary['objects'])
+
+    def test_failed_scenarios_are_counted_and_listed(self):
+        self.assertEqual(self.summary['failed'], 1)
+        self.assertEqual(len(self.summary['scenarios']), 4)
+        self.assertIsNone(self.summary['scenarios'][3]['report'])
+        self.assertIn('FAILED', suite_summary.headline(self.summary))
+
+    def test_by_kind(self):
+        carry = self.summary['by_kind']['carry']
+        self.assertEqual(carry['count'], 2)
+        self.assertAlmostEqual(carry['objects.recall_add_or_adds_10']['worst'], 0.5)
+        self.assertEqual(self.summary['by_kind']['occlusion']['count'], 1)
+
+    def test_files_are_written(self):
+        with tempfile.TemporaryDirectory() as d:
+            suite_summary.write(self.summary, d)
+            with open(os.path.join(d, 'summary.json')) as f:
+                back = json.load(f)
+            self.assertAlmostEqual(back['objects']['recall_add_or_adds_10']['worst'], 0.5)
+            with open(os.path.join(d, 'summary.md')) as f:
+                md = f.read()
+            self.assertIn('| scenario_002 | carry | 0.500 |', md)
+            self.assertGreater(os.path.getsize(os.path.join(d, 'recall.png')), 1000)
+
+
+if __name__ == '__main__':
+    junit_runner.main('suite_summary', SuiteSummaryTest)
