@@ -47,7 +47,8 @@ demo: build
 # simulated, scored (its bag deleted once scored), SUITE_JOBS at a time; summary in SUITE_DIR
 # (summary.json, summary.md, recall.png). SUITE_DETECTOR= scores the simulated hypotheses,
 # SUITE_DETECTOR=default the package's detector; SUITE_MESH_DIR= the package's meshes, or e.g.
-# ../shared/data/pbr_objects/meshes.
+# ../shared/data/pbr_objects/meshes. SUITE_ARGS=--keep-bags keeps the bags (1.6 GB each) and
+# replays them on the next such run instead of simulating again.
 SUITE_COUNT ?= 20
 SUITE_SEED ?= 1
 SUITE_DETECTOR ?=
@@ -57,7 +58,7 @@ SUITE_DIR ?= $(BUILD)/suite
 suite: build
 	@/usr/bin/python3 scripts/suite.py --tools $(TOOLS) --output $(SUITE_DIR) --count $(SUITE_COUNT) \
 	  --seed $(SUITE_SEED) --jobs $(SUITE_JOBS) $(if $(SUITE_DETECTOR),--detector $(SUITE_DETECTOR)) \
-	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR))
+	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR)) $(SUITE_ARGS)
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build

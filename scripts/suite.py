@@ -6,7 +6,8 @@
 
 OUTPUT/scenarios/ holds the generated YAMLs and their index (generate_scenarios);
 OUTPUT/runs/<name>/ each scenario's report.json, report.md, timeseries.csv and logs (the bag is
-deleted once it is scored unless --keep-bags). Then:
+deleted once it is scored; --keep-bags keeps it, and a later --keep-bags run replays a kept bag
+of the same scenario instead of simulating it again). Then:
   OUTPUT/summary.json  `scenarios` (name, kinds, status, report) and, for every numeric
                        report.json key outside per_object, {median, worst, mean} under the same
                        nested name (worst: the minimum for recall-like keys, else the maximum);
@@ -16,6 +17,7 @@ Exit status 1 when a scenario failed to simulate or evaluate.
 """
 import argparse
 import concurrent.futures
+import hashlib
 import json
 import os
 import subprocess
@@ -67,15 +69,32 @@ class Suite:
                        stdout=subprocess.DEVNULL)
         return index['scenarios']
 
+    def source(self, s):
+        """What a bag was simulated from: the scenario file and the mesh directory."""
+        with open(s['path']) as f:
+            return hashlib.sha256((f.read() + self.a.mesh_dir).encode()).hexdigest()
+
+    def reusable(self, s, bag):
+        """With --keep-bags, a kept bag of the same scenario is replayed, not simulated again."""
+        try:
+            with open(bag + '.source') as f:
+                return self.a.keep_bags and os.path.exists(bag) and f.read() == self.source(s)
+        except OSError:
+            return False
+
     def one(self, s):
         d = os.path.join(self.a.output, 'runs', s['name'])
         os.makedirs(d, exist_ok=True)
         bag = os.path.join(d, 'run.bag')
         entry = {'name': s['name'], 'kinds': s['kinds'], 'index': s, 'status': 'ok'}
         t0 = time.time()
-        if run([self.tool('simulate'), '--scenario', s['path'], '--output', bag, '--quiet']
-               + self.mesh_args(), os.path.join(d, 'simulate.log')) != 0:
+        if not self.reusable(s, bag) and run(
+                [self.tool('simulate'), '--scenario', s['path'], '--output', bag, '--quiet']
+                + self.mesh_args(), os.path.join(d, 'simulate.log')) != 0:
             entry['status'] = 'simulate failed (%s)' % os.path.join(d, 'simulate.log')
+        elif self.a.keep_bags:
+            with open(bag + '.source', 'w') as f:
+                f.write(self.source(s))
         t1 = time.time()
         if entry['status'] == 'ok':
             cmd = [self.tool('evaluate'), '--bag', bag, '--output', d, '--scenario', s['path'],

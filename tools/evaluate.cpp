@@ -33,6 +33,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -47,6 +48,7 @@
 #include "scene_graph_tracker/scene/static_map.hpp"
 #include "scene_graph_tracker/simulation/building_map.hpp"
 #include "scene_graph_tracker/simulation/scenario.hpp"
+#include "scene_graph_tracker/tracking/assignment.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
 
 namespace {
@@ -152,6 +154,7 @@ class Evaluation {
   double detect(sgt::ros::BagFrame& bf);  // the detector's hypotheses replace the bag's; its ms
   void score(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r);
   void scoreHypotheses(const sgt::ros::BagFrame& bf, const Eigen::Isometry3d& T_map_base);
+  std::vector<int> matchObjects(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r);
   std::map<std::string, std::string> scoreObjects(const sgt::ros::BagFrame& bf,
                                                   const sgt::PipelineResult& r);
   bool inView(const sgt::ros::BagFrame& bf, const Eigen::Isometry3d& T_map_object) const;
@@ -172,6 +175,7 @@ class Evaluation {
   std::size_t frames_without_rgb_ = 0, warnings_ = 0;
   std::map<std::string, std::pair<std::size_t, std::size_t>> detections_by_class_;  // found, PnP ok
   std::set<std::string> detected_;  // true objects a hypothesis has found (scored from then on)
+  std::map<std::string, std::string> last_match_;  // true object -> its track last frame
   bool first_ = true;
 };
 
@@ -334,35 +338,64 @@ void Evaluation::scoreHypotheses(const sgt::ros::BagFrame& bf,
   }
 }
 
-// Each true object against the nearest estimate of its class (each estimate
-// used once) within its gate, as CLEAR-MOT matches: a track farther away is no
-// estimate of this object (a miss, and no identity switch). Later frames
-// without an estimate are misses, hidden or not. Returns the tracks the
-// relations are judged by: in the scene graph (confirmed or lost) and within 10
-// cm.
+// Each true object against an estimate of its class within its gate, as CLEAR-MOT matches
+// (Bernardin and Stiefelhagen 2008): an object keeps last frame's track while that track is
+// still within its gate, the others are assigned globally (least total distance). A track
+// farther away is no estimate of this object (a miss, and no identity switch). Later frames
+// without an estimate are misses, hidden or not. Returns the tracks the relations are judged by:
+// in the scene graph (confirmed or lost) and within 10 cm.
+std::vector<int> Evaluation::matchObjects(const sgt::ros::BagFrame& bf,
+                                          const sgt::PipelineResult& r) {
+  const auto& truth = bf.truth->objects;
+  const double forbidden = std::numeric_limits<double>::max();
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(truth.size(), r.objects.size(), forbidden);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t k = 0; k < r.objects.size(); ++k) {
+      if (!catalog_->contains(truth[i].class_name) ||
+          r.objects[k].class_name != truth[i].class_name)
+        continue;
+      const double d =
+          (r.objects[k].T_map_object.translation() - truth[i].T_map_object.translation()).norm();
+      if (d < gate(truth[i].class_name)) cost(i, k) = d;
+    }
+  std::vector<int> match(truth.size(), -1);
+  for (std::size_t i = 0; i < truth.size(); ++i) {  // last frame's matches that still hold
+    const auto last = last_match_.find(truth[i].id);
+    if (last == last_match_.end()) continue;
+    for (std::size_t k = 0; k < r.objects.size(); ++k)
+      if (r.objects[k].id == last->second && cost(i, k) < forbidden) {
+        match[i] = static_cast<int>(k);
+        cost.row(i).setConstant(forbidden);
+        cost.col(k).setConstant(forbidden);
+      }
+  }
+  const std::vector<int> rest = sgt::assignMinCost(cost, forbidden);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (match[i] < 0) match[i] = rest[i];
+  last_match_.clear();
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (match[i] >= 0) last_match_[truth[i].id] = r.objects[match[i]].id;
+  return match;
+}
+
 std::map<std::string, std::string> Evaluation::scoreObjects(const sgt::ros::BagFrame& bf,
                                                             const sgt::PipelineResult& r) {
+  const std::vector<int> match = matchObjects(bf, r);
   std::vector<char> used(r.objects.size(), 0);
   std::map<std::string, std::string> track_to_object;
-  for (const auto& t : bf.truth->objects) {
-    if (!catalog_->contains(t.class_name)) continue;
-    std::size_t best = r.objects.size();
-    double best_d = 1e9;
-    for (std::size_t k = 0; k < r.objects.size(); ++k) {
-      if (r.objects[k].class_name != t.class_name) continue;
-      const double d =
-          (r.objects[k].T_map_object.translation() - t.T_map_object.translation()).norm();
-      if (!used[k] && d < best_d && d < gate(t.class_name)) best_d = d, best = k;
-    }
-    if (best < r.objects.size()) used[best] = 1;  // its track, whether scored yet or not
-    if (!detected_.count(t.id)) continue;  // before its first hypothesis: nothing to track yet
+  for (std::size_t i = 0; i < bf.truth->objects.size(); ++i) {
+    const auto& t = bf.truth->objects[i];
+    if (match[i] >= 0) used[match[i]] = 1;  // its track, whether scored yet or not
+    if (!catalog_->contains(t.class_name) || !detected_.count(t.id))
+      continue;  // before its first hypothesis: nothing to track yet
     std::optional<sgt::PoseErrors> e;
     std::string track;
-    if (best < r.objects.size()) {
-      track = r.objects[best].id;
-      if (r.objects[best].state != sgt::TrackState::kTentative && best_d < 0.1)
-        track_to_object[track] = t.id;
-      e = (*scorer_)(t.class_name, r.objects[best].T_map_object, t.T_map_object);
+    if (match[i] >= 0) {
+      const sgt::TrackedObject& o = r.objects[match[i]];
+      track = o.id;
+      const double d = (o.T_map_object.translation() - t.T_map_object.translation()).norm();
+      if (o.state != sgt::TrackState::kTentative && d < 0.1) track_to_object[track] = t.id;
+      e = (*scorer_)(t.class_name, o.T_map_object, t.T_map_object);
     }
     report_.addObject(r.stamp, t.id, t.class_name, track, e, inView(bf, t.T_map_object));
   }

@@ -78,7 +78,7 @@ void EvaluationReport::addFrame(double stamp, const StageTimes& times) {
 void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
                                  const std::string& track, const std::optional<PoseErrors>& e,
                                  bool in_view) {
-  objects_.push_back({stamp, id, cls, e, in_view});
+  objects_.push_back({stamp, id, cls, e, in_view, track});
   if (!in_view) return;
   if (track.empty()) return;
   std::string& last = last_track_[id];
@@ -320,19 +320,19 @@ std::string EvaluationReport::timeseriesCsv() const {
   o << std::setprecision(15);  // stamps are ~1.7e9 s: keep the milliseconds
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
-       "loc_t_mm,loc_r_deg\n";
+       "loc_t_mm,loc_r_deg,track\n";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
       << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "")
-      << ",,,,,,,\n";
+      << ",,,,,,,," << r.track << "\n";
   for (const FalsePositiveRow& f : false_positives_)
-    o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name
-      << ",,,,,,,,,,,\n";
+    o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
+      << f.track_id << "\n";
   for (const FrameRow& f : frames_)
     o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms
       << "," << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
-      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << "\n";
+      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << ",\n";
   return o.str();
 }
 

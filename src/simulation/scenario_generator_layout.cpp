@@ -19,7 +19,7 @@ double projectedHalf(const Footprint& f, const Eigen::Vector2d& a) {
 bool overlaps(const Footprint& a, const Footprint& b, double margin) {
   const Eigen::Matrix2d Ra = rotation(a.yaw), Rb = rotation(b.yaw);
   const Eigen::Vector2d d = b.centre - a.centre;
-  for (const Eigen::Vector2d& axis : {Ra.col(0), Ra.col(1), Rb.col(0), Rb.col(1)}) {
+  for (const Eigen::Vector2d axis : {Ra.col(0), Ra.col(1), Rb.col(0), Rb.col(1)}) {
     const double gap = std::abs(d.dot(axis)) - projectedHalf(a, axis) - projectedHalf(b, axis);
     if (gap >= margin) return false;  // a separating axis
   }

@@ -61,6 +61,7 @@ class EvaluationReport {
     std::string id, class_name;
     std::optional<PoseErrors> e;
     bool in_view = true;
+    std::string track;  // the track matched to the object ("" when none)
   };
   struct FrameRow {
     double stamp;
