@@ -2,7 +2,7 @@
 """The scenario suite (`make suite`): generate scenarios, simulate and evaluate each, summarise.
 
   scripts/suite.py --tools DIR --output DIR [--count 20] [--seed 1] [--detector default]
-                   [--mesh-dir DIR] [--jobs 2] [--keep-bags]
+                   [--mesh-dir DIR] [--jobs 2] [--keep-bags] [--evaluate-args "--params FILE"]
 
 OUTPUT/scenarios/ holds the generated YAMLs and their index (generate_scenarios);
 OUTPUT/runs/<name>/ each scenario's report.json, report.md, timeseries.csv and logs (the bag is
@@ -100,6 +100,7 @@ class Suite:
             cmd = [self.tool('evaluate'), '--bag', bag, '--output', d, '--scenario', s['path'],
                    '--map', self.map, '--furniture', self.furniture, '--no-plots']
             cmd += self.mesh_args() + (['--detector', self.a.detector] if self.a.detector else [])
+            cmd += self.a.evaluate_args.split()
             if run(cmd, os.path.join(d, 'evaluate.log')) != 0:
                 entry['status'] = 'evaluate failed (%s)' % os.path.join(d, 'evaluate.log')
         t2 = time.time()
@@ -141,6 +142,7 @@ def main():
     ap.add_argument('--mesh-dir', default='')
     ap.add_argument('--jobs', type=int, default=2)
     ap.add_argument('--keep-bags', action='store_true')
+    ap.add_argument('--evaluate-args', default='', help='more arguments for evaluate, e.g. "--params FILE"')
     a = ap.parse_args()
     if a.mesh_dir:
         a.mesh_dir = os.path.abspath(a.mesh_dir)
@@ -153,7 +155,8 @@ def main():
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         entries = list(pool.map(suite.one, scenarios))
     summary = suite_summary.summarise(entries, {
-        'count': a.count, 'seed': a.seed, 'detector': a.detector, 'mesh_dir': a.mesh_dir})
+        'count': a.count, 'seed': a.seed, 'detector': a.detector, 'mesh_dir': a.mesh_dir,
+        'evaluate_args': a.evaluate_args})
     suite_summary.write(summary, a.output)
     print('suite: %s' % suite_summary.headline(summary))
     print('suite: wrote %s' % ', '.join(os.path.join(a.output, f)

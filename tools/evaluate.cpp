@@ -314,27 +314,38 @@ void Evaluation::score(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& 
   report_.addPresegmentation(presegmentationCounts(gt, r));
 }
 
-// hypotheses.*: the nearest hypothesis of each true object in view, scored like
-// a track. An object is scored (objects.*) from the first frame a hypothesis of
-// its class (simulated, or the detector's) lies within its gate: before, the
-// tracker has nothing to start from.
+// hypotheses.*: each true object in view against a hypothesis of its class within its gate,
+// scored like a track; hypotheses and objects are assigned one to one (least total distance), so
+// a hidden object is not "found" by its visible neighbour's hypothesis. An object is scored
+// (objects.*) from the first frame a hypothesis (simulated, or the detector's) is assigned to
+// it: before, the tracker has nothing to start from.
 void Evaluation::scoreHypotheses(const sgt::ros::BagFrame& bf,
                                  const Eigen::Isometry3d& T_map_base) {
-  for (const auto& t : bf.truth->objects) {
-    if (!catalog_->contains(t.class_name)) continue;
-    const sgt::PoseHypothesis* nearest = nullptr;
-    double nearest_d = gate(t.class_name);
-    for (const sgt::PoseHypothesis& h : bf.frame.hypotheses) {
-      const double d =
-          ((T_map_base * h.T_base_object).translation() - t.T_map_object.translation()).norm();
-      if (t.class_name == h.class_name && d < nearest_d) nearest_d = d, nearest = &h;
+  const auto& truth = bf.truth->objects;
+  const auto& hypotheses = bf.frame.hypotheses;
+  const double forbidden = std::numeric_limits<double>::max();
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(truth.size(), hypotheses.size(), forbidden);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t h = 0; h < hypotheses.size(); ++h) {
+      if (!catalog_->contains(truth[i].class_name) ||
+          hypotheses[h].class_name != truth[i].class_name)
+        continue;
+      const double d = ((T_map_base * hypotheses[h].T_base_object).translation() -
+                        truth[i].T_map_object.translation())
+                           .norm();
+      if (d < gate(truth[i].class_name)) cost(i, h) = d;
     }
-    if (nearest) detected_.insert(t.id);
+  const std::vector<int> match = sgt::assignMinCost(cost, forbidden);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const auto& t = truth[i];
+    if (!catalog_->contains(t.class_name)) continue;
+    if (match[i] >= 0) detected_.insert(t.id);
     if (inView(bf, t.T_map_object))
       report_.addHypothesis(
-          t.id, nearest ? std::optional<sgt::PoseErrors>((*scorer_)(
-                              t.class_name, T_map_base * nearest->T_base_object, t.T_map_object))
-                        : std::nullopt);
+          t.id, match[i] >= 0 ? std::optional<sgt::PoseErrors>((*scorer_)(
+                                    t.class_name, T_map_base * hypotheses[match[i]].T_base_object,
+                                    t.T_map_object))
+                              : std::nullopt);
   }
 }
 

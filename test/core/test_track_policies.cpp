@@ -246,6 +246,25 @@ TEST(OrientationReSearch, AConfirmedTrackExplainingTooLittleIsSearchedAgainAfter
   EXPECT_FALSE(next(life, goodFit(2.0, 0.8), off).search_orientation);
 }
 
+TEST(OrientationDispute, DetectionsTurnedAwayInARowContestTheOrientationAndOneAgreeingEndsIt) {
+  const double turned = kOptions.dispute_angle_rad + 0.01,
+               close = kOptions.dispute_angle_rad - 0.01;
+  int disputes = 0;
+  for (int i = 1; i < kOptions.disputes_to_contest; ++i) {
+    disputes = OrientationDispute::next(disputes, turned, kOptions);
+    EXPECT_FALSE(OrientationDispute::contested(disputes, kOptions)) << i;
+  }
+  EXPECT_EQ(OrientationDispute::next(disputes, close, kOptions), 0);  // one agrees: start over
+  disputes = OrientationDispute::next(disputes, turned, kOptions);
+  EXPECT_TRUE(OrientationDispute::contested(disputes, kOptions));
+  LifecycleOptions off = kOptions;
+  off.dispute_angle_rad = 0.0;
+  EXPECT_EQ(OrientationDispute::next(5, M_PI, off), 0);
+  off = kOptions;
+  off.disputes_to_contest = 0;
+  EXPECT_FALSE(OrientationDispute::contested(100, off));
+}
+
 TEST(DetectionAssociation, GatesAndRestarts) {
   EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions),
                    kOptions.association_distance);

@@ -121,6 +121,8 @@ class FramePipeline {
     // A lost track's filter when a detection restarted it: the restart contest weighs its pose
     // against the detection's.
     std::optional<PoseFilter> before_restart = std::nullopt;
+    // The latest detection once detections contest the track's orientation (OrientationDispute).
+    std::optional<Eigen::Isometry3d> contested_by = std::nullopt;
   };
   // Stages of process().
   void localize(PipelineFrame& frame, PipelineResult& out);
@@ -173,6 +175,9 @@ class FramePipeline {
   double fitWeakness(const TrackedObject& o, const std::vector<RangeMeasurements>& sets) const;
   void contestRestarts(
       const std::vector<RangeMeasurements>& sets);  // RestartContest, this frame's restarts
+  // Tracks whose orientation detections contest: the detection's pose against the track's.
+  void settleDisputes(const std::vector<RangeMeasurements>& sets, double stamp);
+  void noteDispute(Track& t, const Eigen::Isometry3d& T_detected);
   // Of the tracks in needs_orientation_.
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children

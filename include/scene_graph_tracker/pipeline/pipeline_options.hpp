@@ -105,6 +105,15 @@ struct PipelineOptions {
   // orientation_search_interval_s): a wrong turn explains fewer of its rays than the right one.
   // 0 turns it off.
   double research_below_fit_support = 0.9;
+  // Orientation disputes (tracking/track_lifecycle.hpp, OrientationDispute): a hypothesis turned
+  // more than this from its track (up to symmetries) disputes the track's orientation; this many
+  // in a row make the detection's pose compete with the track's (0: off).
+  double orientation_dispute_deg = 30.0;
+  int orientation_disputes = 3;
+  // A detection that restarts a track (its fit failed) outside the filter's 99.9 % gate replaces
+  // the filter's belief instead of being averaged with it: an object turned in a hand is where
+  // the detection sees it, not half-way.
+  bool restart_replaces_outliers = true;
   RefinerOptions orientation_refiner = orientationRefinerDefaults();
   bool run_presegmentation = true;
   bool compute_relations = true;

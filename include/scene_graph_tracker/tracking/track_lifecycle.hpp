@@ -35,8 +35,10 @@ struct LifecycleOptions {
   double lost_track_resume_inlier_ratio;
   double research_below_fit_support;
   double orientation_search_interval_s;
-  int min_points;           // the refiner's alignment.min_points: a fit needs this many
-  double min_inlier_ratio;  // the refiner's: below it a fit explains nothing there
+  double dispute_angle_rad;  // a hypothesis turned farther than this from the track disputes it
+  int disputes_to_contest;   // consecutive disputing hypotheses that contest the orientation
+  int min_points;            // the refiner's alignment.min_points: a fit needs this many
+  double min_inlier_ratio;   // the refiner's: below it a fit explains nothing there
 };
 
 // What a track knows of its own history.
@@ -49,6 +51,7 @@ struct TrackLife {
   double sunk_since = -1.0;    // < 0: not inside the static map
   double last_hypothesis = 0.0;
   double last_orientation_search = -1e9;
+  int orientation_disputes = 0;  // consecutive associated hypotheses turned away from the track
 };
 
 // What one frame says about a track.
@@ -124,6 +127,17 @@ struct ChildOfContainer {
 // turned: searched again, no sooner than orientation_search_interval_s after the last search.
 struct OrientationReSearch {
   static bool due(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+};
+
+// Detections that keep seeing a track turned otherwise (beyond dispute_angle_rad, up to its
+// symmetries) contest its orientation: after disputes_to_contest of them in a row, the latest
+// detection's pose and the track's are refined briefly on the measurements and the better
+// explained one goes on (the track's wins ties). Refinement is a local search: once a carried or
+// half-hidden object has slipped into a wrong turn that explains its points about as well, only
+// new evidence can get it out, and the detector sees the object's appearance, not its depth.
+struct OrientationDispute {
+  static int next(int disputes, double angle_rad, const LifecycleOptions& o);
+  static bool contested(int disputes, const LifecycleOptions& o);
 };
 
 // The model lies partly inside the static map: nowhere a real object can be.

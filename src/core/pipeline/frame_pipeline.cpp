@@ -147,6 +147,7 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
                                  std::vector<std::string>& dropped) {
   if (options_.contest_restarts && !sets.empty()) contestRestarts(sets);
   for (Track& t : tracks_) t.before_restart.reset();
+  if (!sets.empty()) settleDisputes(sets, stamp);
   if (options_.search_orientations && !sets.empty())
     searchOrientations(sets, stamp);
   else

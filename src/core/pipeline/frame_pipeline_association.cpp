@@ -78,7 +78,30 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
     ++t.life.detections;
     if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
       restartFromDetection(t, in_map[h]);
+    else
+      noteDispute(t, in_map[h]);
   }
+}
+
+namespace {
+
+// Angle between two rotations up to the object's symmetries.
+double rotationDistance(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, const Symmetry& s) {
+  double best = M_PI;
+  for (const Eigen::Isometry3d& S : s.sampled())
+    best = std::min(best, Eigen::AngleAxisd(a.transpose() * b * S.linear()).angle());
+  return best;
+}
+
+}  // namespace
+
+void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {
+  const double angle = rotationDistance(t.out.T_map_object.linear(), T_detected.linear(),
+                                        catalog_->get(t.out.class_name).symmetry);
+  t.life.orientation_disputes =
+      OrientationDispute::next(t.life.orientation_disputes, angle, lifecycleOptions());
+  if (OrientationDispute::contested(t.life.orientation_disputes, lifecycleOptions()))
+    t.contested_by = T_detected;
 }
 
 bool FramePipeline::roomForTrack(const std::string& class_name) const {
@@ -92,7 +115,14 @@ bool FramePipeline::roomForTrack(const std::string& class_name) const {
 void FramePipeline::restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object) {
   if (t.life.state == TrackState::kLost) t.before_restart = t.filter;  // for the restart contest
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
-  t.filter.update(T_map_object, C, &catalog_->get(t.out.class_name).symmetry);
+  const Symmetry* symmetry = &catalog_->get(t.out.class_name).symmetry;
+  // 99.9 % of a 6-dof Gaussian lie within this squared Mahalanobis distance.
+  constexpr double kGate6Dof = 22.46;
+  if (options_.restart_replaces_outliers &&
+      t.filter.distance2(T_map_object, C, symmetry) > kGate6Dof)
+    t.filter = PoseFilter(T_map_object, C, options_.motion);
+  else
+    t.filter.update(T_map_object, C, symmetry);
   t.out.T_map_object = T_map_object;
   scene_.setInstancePose(t.out.node, T_map_object);
   needs_orientation_.push_back(t.out.id);

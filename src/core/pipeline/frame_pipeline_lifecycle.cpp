@@ -18,6 +18,8 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   o.lost_track_resume_inlier_ratio = p.lost_track_resume_inlier_ratio;
   o.research_below_fit_support = p.research_below_fit_support;
   o.orientation_search_interval_s = p.orientation_search_interval_s;
+  o.dispute_angle_rad = p.orientation_dispute_deg * M_PI / 180.0;
+  o.disputes_to_contest = p.orientation_disputes;
   o.min_points = p.refiner.alignment.min_points, o.min_inlier_ratio = p.refiner.min_inlier_ratio;
   return o;
 }

@@ -38,6 +38,35 @@ void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) 
   scene_.commit();
 }
 
+void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, double stamp) {
+  OrientationPrior prior;
+  prior.world_up = Eigen::Vector3d::UnitZ();
+  for (Track& t : tracks_) {
+    if (!t.contested_by) continue;
+    const Eigen::Isometry3d detected = *t.contested_by;
+    t.contested_by.reset();
+    t.life.orientation_disputes = 0;
+    if (stamp - t.life.last_orientation_search < options_.orientation_search_interval_s) continue;
+    t.life.last_orientation_search = stamp;
+    const ObjectClass& c = catalog_->get(t.out.class_name);
+    // The track first: it wins ties.
+    const std::vector<Eigen::Isometry3d> candidates{t.out.T_map_object, detected};
+    const OrientationChoice choice = chooseOrientation(
+        scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
+    if (choice.candidate == 1) {
+      t.out.T_map_object = choice.T_world_object;
+      t.filter =
+          PoseFilter(choice.T_world_object,
+                     diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
+                     options_.motion);
+    }
+    // Refinement goes on from the winner as it was, not as the contest's few rounds left it.
+    scene_.setInstancePose(t.out.node, t.out.T_map_object);
+    graph_.setWorldTransform(t.out.node, t.out.T_map_object);
+  }
+  scene_.commit();
+}
+
 void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp) {
   static const std::vector<Eigen::Matrix3d> rotations = cuboidRotations();
   OrientationPrior prior;

@@ -164,6 +164,9 @@ Schema<T> associationParams() {
       flag<T>("contest_restarts", kAssociation, PIPE(contest_restarts), kRuntime,
               "a detection restarts a lost track only if the measurements support it better than "
               "the track pose"),
+      flag<T>("restart_replaces_outliers", kAssociation, PIPE(restart_replaces_outliers), kRuntime,
+              "a restarting detection outside the 99.9 % gate of the track filter replaces its pose "
+              "instead of being averaged with it"),
       number<T>("lost_track_max_jump_m", kAssociation, PIPE(lost_track_max_jump_m), 0.0, 1.0, "m",
                 kRuntime,
                 "a lost track ignores fits farther than this from where it was lost, until a "
@@ -278,6 +281,12 @@ Schema<T> refinementParams() {
                 kRuntime, "fewest inliers of a fit"),
       flag<T>("refine_with_lidar", kRefinement, PIPE(refine_with_lidar), kRuntime,
               "refine from LiDAR returns too when the frame has a depth image"),
+  };
+}
+
+// Which way a track is turned: orientation searches, disputes, and the refiner they use.
+Schema<T> orientationParams() {
+  return {
       flag<T>("search_orientations", kRefinement, PIPE(search_orientations), kRuntime,
               "a confirmed or restarting track tries the 24 axis turns of its box (tracker.launch "
               "sets it to "
@@ -289,6 +298,14 @@ Schema<T> refinementParams() {
       number<T>("research_below_fit_support", kRefinement, PIPE(research_below_fit_support), 0.0,
                 1.0, "", kRuntime,
                 "a confirmed track whose fit support stays below this is searched again (0: off)"),
+      number<T>("orientation_dispute_deg", kRefinement, PIPE(orientation_dispute_deg), 0.0, 180.0,
+                "deg", kRuntime,
+                "a hypothesis turned more than this from its track (up to symmetries) disputes "
+                "its orientation (0: off)"),
+      number<T>("orientation_disputes", kRefinement, PIPE(orientation_disputes), 0, 1000, "",
+                kRuntime,
+                "disputing hypotheses in a row that make the pose of the detection compete with "
+                "that of the track, both refined on the measurements (0: off)"),
       number<T>("orientation_refine/rounds", kRefinement, PIPE(orientation_refiner.rounds), 1, 30,
                 "", kRuntime, "ray-casting rounds per candidate of a search or restart contest"),
       number<T>("orientation_refine/steps", kRefinement, PIPE(orientation_refiner.steps), 1, 20, "",
@@ -402,9 +419,9 @@ Schema<T> relationsParams() {
 
 Schema<T> makeTrackerSchema() {
   Schema<T> s;
-  for (Schema<T> group :
-       {nodeParams(), associationParams(), confirmationParams(), removalParams(), filterParams(),
-        refinementParams(), localizationParams(), presegmentationParams(), relationsParams()})
+  for (Schema<T> group : {nodeParams(), associationParams(), confirmationParams(), removalParams(),
+                          filterParams(), refinementParams(), orientationParams(),
+                          localizationParams(), presegmentationParams(), relationsParams()})
     s.insert(s.end(), group.begin(), group.end());
   return s;
 }

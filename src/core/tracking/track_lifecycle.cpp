@@ -100,6 +100,14 @@ bool OrientationReSearch::due(const TrackLife& life, const TrackEvidence& e,
          !e.queued_for_search;
 }
 
+int OrientationDispute::next(int disputes, double angle_rad, const LifecycleOptions& o) {
+  return o.dispute_angle_rad > 0.0 && angle_rad > o.dispute_angle_rad ? disputes + 1 : 0;
+}
+
+bool OrientationDispute::contested(int disputes, const LifecycleOptions& o) {
+  return o.disputes_to_contest > 0 && disputes >= o.disputes_to_contest;
+}
+
 double SunkInMap::since(double sunk_since, bool child, bool sunk, double stamp) {
   return absentSince(sunk_since, !child && sunk, stamp);
 }
