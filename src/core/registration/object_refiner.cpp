@@ -28,20 +28,6 @@ const char* toString(RefineStatus s) {
 
 namespace {
 
-// Points near an object that nothing explains can only belong to it as far as its own surface
-// is missing where it was predicted: at most `missing` of them (evenly spread) pull it. A
-// well-explained object next to an unknown box is not dragged into the box; a moved one, whose
-// predicted surface finds nothing, is pulled by as many points as it lacks.
-std::vector<RayPair> strideSubset(const std::vector<RayPair>& pulls, int missing) {
-  if (missing <= 0) return {};
-  if (static_cast<std::size_t>(missing) >= pulls.size()) return pulls;
-  std::vector<RayPair> kept;
-  kept.reserve(missing);
-  const double step = static_cast<double>(pulls.size()) / missing;
-  for (int i = 0; i < missing; ++i) kept.push_back(pulls[static_cast<std::size_t>(i * step)]);
-  return kept;
-}
-
 // Removes the rotation about each continuous symmetry axis (object frame) from the step
 // T_start -> T_new, so refinement never spins an object about an axis it cannot observe.
 Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start,
@@ -149,11 +135,9 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         const auto pulls =
             collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
         const bool point_to_point = round < options_.pull_point_to_point_rounds;
-        for (int k = 0; k < n_obj; ++k) {
-          const int missing = stats.expected[k] - static_cast<int>(last_pairs[s][k].size());
-          for (const RayPair& p : strideSubset(pulls[k], missing))
+        for (int k = 0; k < n_obj; ++k)
+          for (const RayPair& p : pulls[k])
             point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
-        }
       }
     }
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
