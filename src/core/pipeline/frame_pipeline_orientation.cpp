@@ -49,11 +49,13 @@ void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, d
     if (stamp - t.life.last_orientation_search < options_.orientation_search_interval_s) continue;
     t.life.last_orientation_search = stamp;
     const ObjectClass& c = catalog_->get(t.out.class_name);
-    // The detection first: it wins ties (the depth cannot tell them apart, the detector saw it).
-    const std::vector<Eigen::Isometry3d> candidates{detected, t.out.T_map_object};
+    // The track first: it wins ties. A keypoint detector confuses an object with its turned twin
+    // consistently (the shipped one turns the multimeter and the material box by half a turn),
+    // so a detection turns a track only where the depth supports it.
+    const std::vector<Eigen::Isometry3d> candidates{t.out.T_map_object, detected};
     const OrientationChoice choice = chooseOrientation(
         scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
-    if (choice.candidate == 0 && choice.candidates_fitted > 0) {
+    if (choice.candidate == 1) {
       t.out.T_map_object = choice.T_world_object;
       t.filter =
           PoseFilter(choice.T_world_object,
