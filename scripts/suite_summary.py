@@ -66,11 +66,27 @@ def aggregate(reports):
     return out
 
 
+def hypotheses_by_class(reports):
+    """Per class over all scenarios: in-view object frames, those with a hypothesis assigned
+    (one to one, within the object's gate), and their share: the detection rate."""
+    out = {}
+    for r in reports:
+        classes = {i: o['class'] for i, o in r['objects'].get('per_object', {}).items()}
+        for i, h in r.get('hypotheses', {}).get('per_object', {}).items():
+            c = out.setdefault(classes.get(i, '?'), {'evaluated': 0, 'found': 0})
+            c['evaluated'] += h['evaluated']
+            c['found'] += h['found']
+    for c in out.values():
+        c['rate'] = c['found'] / c['evaluated'] if c['evaluated'] else None
+    return dict(sorted(out.items()))
+
+
 def summarise(entries, settings):
     ok = [e for e in entries if 'report' in e]
     summary = {'settings': settings, 'scenario_count': len(entries), 'failed': len(entries) - len(ok)}
     summary.update(aggregate([e['report'] for e in ok]))
     kinds = sorted({k for e in ok for k in e['kinds']})
+    summary['hypotheses_by_class'] = hypotheses_by_class([e['report'] for e in ok])
     summary['by_kind'] = {}
     for kind in kinds:
         reports = [e['report'] for e in ok if kind in e['kinds']]
@@ -113,6 +129,10 @@ def markdown(summary):
         if st:
             lines.append('| %s (`%s`) | %s | %s | %s |' % (label, name, fmt(st['median']),
                                                            fmt(st['worst']), fmt(st['mean'])))
+    lines += ['', '## Hypotheses per class (detection rate: in-view frames with a hypothesis)', '',
+              '| class | frames | with a hypothesis | rate |', '|---|---|---|---|']
+    for c, h in summary['hypotheses_by_class'].items():
+        lines.append('| %s | %d | %d | %s |' % (c, h['evaluated'], h['found'], fmt(h['rate'])))
     lines += ['', '## By kind of scenario', '',
               '| kind | scenarios | ADD(-S) recall median | worst | switches worst | '
               'false tracks median |', '|---|---|---|---|---|---|']

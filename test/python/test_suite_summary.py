@@ -19,8 +19,10 @@ def report(recall, switches, frame_ms, per_object_recall):
     return {'frames': 600,
             'objects': {'recall_add_or_adds_10': recall, 'recall_adds_10': min(1.0, recall + 0.1),
                         'identity_switches': switches, 'false_tracks': 1,
-                        'per_object': {'relay_1': {'recall_adds_10': per_object_recall}},
+                        'per_object': {'relay_1': {'class': 'relay',
+                                                   'recall_adds_10': per_object_recall}},
                         'false_positives_by_class': {'relay': switches}},
+            'hypotheses': {'per_object': {'relay_1': {'evaluated': 100, 'found': 50 + switches}}},
             'relations': {'precision': 1.0, 'recall': recall},
             'timing': {'frame_ms_median': frame_ms}}
 
@@ -60,6 +62,12 @@ class SuiteSummaryTest(unittest.TestCase):
         self.assertEqual(len(self.summary['scenarios']), 4)
         self.assertIsNone(self.summary['scenarios'][3]['report'])
         self.assertIn('FAILED', suite_summary.headline(self.summary))
+
+    def test_detection_rate_per_class_sums_the_scenarios_frames(self):
+        relay = self.summary['hypotheses_by_class']['relay']
+        self.assertEqual(relay['evaluated'], 300)
+        self.assertEqual(relay['found'], 50 + 53 + 51)
+        self.assertAlmostEqual(relay['rate'], 154 / 300)
 
     def test_by_kind(self):
         carry = self.summary['by_kind']['carry']
