@@ -87,6 +87,8 @@ class Suite:
         os.makedirs(d, exist_ok=True)
         bag = os.path.join(d, 'run.bag')
         entry = {'name': s['name'], 'kinds': s['kinds'], 'index': s, 'status': 'ok'}
+        with open(s['path']) as f:
+            entry['classes'] = {o['id']: o['class'] for o in yaml.safe_load(f)['objects']}
         t0 = time.time()
         if not self.reusable(s, bag) and run(
                 [self.tool('simulate'), '--scenario', s['path'], '--output', bag, '--quiet']

@@ -66,12 +66,15 @@ def aggregate(reports):
     return out
 
 
-def hypotheses_by_class(reports):
+def hypotheses_by_class(entries):
     """Per class over all scenarios: in-view object frames, those with a hypothesis assigned
-    (one to one, within the object's gate), and their share: the detection rate."""
+    (one to one, within the object's gate), and their share: the detection rate. Classes come
+    from the scenario (`classes`: id -> class), else from the report's scored objects."""
     out = {}
-    for r in reports:
+    for e in entries:
+        r = e['report']
         classes = {i: o['class'] for i, o in r['objects'].get('per_object', {}).items()}
+        classes.update(e.get('classes', {}))
         for i, h in r.get('hypotheses', {}).get('per_object', {}).items():
             c = out.setdefault(classes.get(i, '?'), {'evaluated': 0, 'found': 0})
             c['evaluated'] += h['evaluated']
@@ -86,7 +89,7 @@ def summarise(entries, settings):
     summary = {'settings': settings, 'scenario_count': len(entries), 'failed': len(entries) - len(ok)}
     summary.update(aggregate([e['report'] for e in ok]))
     kinds = sorted({k for e in ok for k in e['kinds']})
-    summary['hypotheses_by_class'] = hypotheses_by_class([e['report'] for e in ok])
+    summary['hypotheses_by_class'] = hypotheses_by_class(ok)
     summary['by_kind'] = {}
     for kind in kinds:
         reports = [e['report'] for e in ok if kind in e['kinds']]
@@ -97,6 +100,7 @@ def summarise(entries, settings):
                 figures[name] = stats(name, vals)
         summary['by_kind'][kind] = figures
     summary['scenarios'] = [{'name': e['name'], 'kinds': e['kinds'], 'status': e['status'],
+                             'classes': e.get('classes'),
                              'seconds': e.get('seconds'), 'scenario': e['index'],
                              'report': e.get('report')} for e in entries]
     return summary

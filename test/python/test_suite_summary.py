@@ -69,6 +69,14 @@ class SuiteSummaryTest(unittest.TestCase):
         self.assertEqual(relay['found'], 50 + 53 + 51)
         self.assertAlmostEqual(relay['rate'], 154 / 300)
 
+    def test_an_object_never_detected_takes_its_class_from_the_scenario(self):
+        never = {'name': 'scenario_005', 'kinds': [], 'status': 'ok', 'index': {},
+                 'classes': {'relay_9': 'relay'},
+                 'report': {'objects': {'per_object': {}},
+                            'hypotheses': {'per_object': {'relay_9': {'evaluated': 20, 'found': 0}}}}}
+        relay = suite_summary.hypotheses_by_class([never])['relay']
+        self.assertEqual((relay['evaluated'], relay['found'], relay['rate']), (20, 0, 0.0))
+
     def test_by_kind(self):
         carry = self.summary['by_kind']['carry']
         self.assertEqual(carry['count'], 2)
