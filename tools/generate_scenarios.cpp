@@ -43,64 +43,76 @@ void indexEntry(YAML::Emitter& index, const sgt::sim::GeneratedScenario& g,
         << g.hidden_fraction << YAML::EndMap;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using namespace sgt;
-  const cli::Flags flags("generate_scenarios",
-                         "--count N --seed S --output DIR [--catalog FILE] [--mesh-dir DIR] "
-                         "[--duration SECONDS]");
-  sim::GeneratorOptions options;
+struct Args {
+  sgt::sim::GeneratorOptions options;
   int count = 0;
   std::uint32_t seed = 1;
   std::string output;
+};
+
+Args parse(int argc, char** argv) {
+  const sgt::cli::Flags flags("generate_scenarios",
+                              "--count N --seed S --output DIR [--catalog FILE] [--mesh-dir DIR] "
+                              "[--duration SECONDS]");
+  Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--count")
-      count = std::stoi(value());
+      a.count = std::stoi(value());
     else if (k == "--seed")
-      seed = static_cast<std::uint32_t>(std::stoul(value()));
+      a.seed = static_cast<std::uint32_t>(std::stoul(value()));
     else if (k == "--output")
-      output = value();
+      a.output = value();
     else if (k == "--catalog")
-      options.catalog = value();
+      a.options.catalog = value();
     else if (k == "--mesh-dir")
-      options.mesh_dir = std::filesystem::absolute(value()).string();
+      a.options.mesh_dir = std::filesystem::absolute(value()).string();
     else if (k == "--duration")
-      options.duration = std::stod(value());
+      a.options.duration = std::stod(value());
     else
       return false;
     return true;
   });
-  if (count <= 0 || output.empty()) flags.fail("--count (> 0) and --output are required");
+  if (a.count <= 0 || a.output.empty()) flags.fail("--count (> 0) and --output are required");
+  return a;
+}
+
+// Writes scenario i as OUTPUT/scenario_NNN.yaml, checks that it loads, adds it to the index.
+void writeOne(const Args& a, const std::map<std::string, sgt::sim::ClassShape>& shapes, int i,
+              YAML::Emitter& index) {
+  std::ostringstream name;
+  name << "scenario_" << std::setw(3) << std::setfill('0') << i;
+  const auto g = sgt::sim::generateScenario(a.options, shapes, scenarioSeed(a.seed, i), name.str());
+  const std::string file = name.str() + ".yaml", path = a.output + "/" + file;
+  {
+    std::ofstream out(path);
+    sgt::sim::writeScenarioYaml(g, a.options, out);
+  }
+  sgt::sim::loadScenario(path);  // throws on anything simulate would refuse
+  indexEntry(index, g, file);
+  std::cout << "[" << i << "/" << a.count << "] " << path << ": " << g.objects.size()
+            << " objects, " << g.distractors.size() << " unknown things\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace sgt;
+  const Args a = parse(argc, argv);
   try {
     const ObjectCatalog catalog =
-        loadObjectCatalog(resolveResourcePath(options.catalog), options.mesh_dir);
+        loadObjectCatalog(resolveResourcePath(a.options.catalog), a.options.mesh_dir);
     const auto shapes = sim::classShapes(catalog);
     for (const auto& [name, s] : shapes)
       if (s.container)
         std::cout << name << ": a container (floor " << s.floor << " m, inner half extents "
                   << s.inner_half.transpose() << " m)\n";
-    std::filesystem::create_directories(output);
+    std::filesystem::create_directories(a.output);
     YAML::Emitter index;
-    index << YAML::BeginMap << YAML::Key << "seed" << YAML::Value << seed << YAML::Key
+    index << YAML::BeginMap << YAML::Key << "seed" << YAML::Value << a.seed << YAML::Key
           << "scenarios" << YAML::Value << YAML::BeginSeq;
-    for (int i = 1; i <= count; ++i) {
-      std::ostringstream name;
-      name << "scenario_" << std::setw(3) << std::setfill('0') << i;
-      const auto g = sim::generateScenario(options, shapes, scenarioSeed(seed, i), name.str());
-      const std::string file = name.str() + ".yaml", path = output + "/" + file;
-      std::ofstream(path) << [&] {
-        std::ostringstream s;
-        sim::writeScenarioYaml(g, options, s);
-        return s.str();
-      }();
-      sim::loadScenario(path);  // throws on anything simulate would refuse
-      indexEntry(index, g, file);
-      std::cout << "[" << i << "/" << count << "] " << path << ": " << g.objects.size()
-                << " objects, " << g.distractors.size() << " unknown things\n";
-    }
+    for (int i = 1; i <= a.count; ++i) writeOne(a, shapes, i, index);
     index << YAML::EndSeq << YAML::EndMap;
-    std::ofstream(output + "/scenarios.yaml") << index.c_str() << "\n";
+    std::ofstream(a.output + "/scenarios.yaml") << index.c_str() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "generate_scenarios: " << e.what() << "\n";
     return 1;

@@ -15,6 +15,13 @@
 
 namespace sgt::sim::gen {
 
+// Where an occluder must stand to cover its targets as the camera sees them.
+struct Cover {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector2d across = Eigen::Vector2d::UnitX();  // horizontal, across the line of sight
+  double width = 0.0, z_low = 0.0, z_high = 0.0;
+};
+
 class Plan {
  public:
   Plan(const GeneratorOptions& options, const std::map<std::string, ClassShape>& shapes,
@@ -61,6 +68,8 @@ class Plan {
   bool occludeOnce(int index);
   GeneratedDistractor occluder(int index, const std::vector<const PlannedObject*>& targets,
                                double t0, double duration);
+  Cover cover(const std::vector<const PlannedObject*>& targets, double t, double f) const;
+  double personShare(const std::vector<const PlannedObject*>& targets, double t) const;
 
   GeneratorOptions options_;
   const std::map<std::string, ClassShape>& shapes_;
