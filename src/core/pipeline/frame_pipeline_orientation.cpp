@@ -41,6 +41,7 @@ void FramePipeline::contestRestarts(const std::vector<RangeMeasurements>& sets) 
 void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, double stamp) {
   OrientationPrior prior;
   prior.world_up = Eigen::Vector3d::UnitZ();
+  bool contested = false;
   for (Track& t : tracks_) {
     if (!t.contested_by) continue;
     const Eigen::Isometry3d detected = *t.contested_by;
@@ -48,6 +49,7 @@ void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, d
     t.life.orientation_disputes = 0;
     if (stamp - t.life.last_orientation_search < options_.orientation_search_interval_s) continue;
     t.life.last_orientation_search = stamp;
+    contested = true;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     // The track first: it wins ties. A keypoint detector confuses an object with its turned twin
     // consistently (the shipped one turns the multimeter and the material box by half a turn),
@@ -66,7 +68,7 @@ void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, d
     scene_.setInstancePose(t.out.node, t.out.T_map_object);
     graph_.setWorldTransform(t.out.node, t.out.T_map_object);
   }
-  scene_.commit();
+  if (contested) scene_.commit();
 }
 
 void FramePipeline::searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp) {
