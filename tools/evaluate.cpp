@@ -26,8 +26,8 @@
 // Options: the structs' defaults, then the parameter files, then the flags:
 // --oracle-localization turns localize off, --no-relations relations/enabled,
 // and --detector turns search_orientations on, orientation_disputes and
-// restart_replaces_outliers off (as tracker.launch does with its detector argument). Writes DIR/report.json, DIR/report.md, DIR/timeseries.csv
-// and DIR/*.png, prints the table.
+// restart_replaces_outliers off (as tracker.launch does with its detector argument). Writes
+// DIR/report.json, DIR/report.md, DIR/timeseries.csv and DIR/*.png, prints the table.
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>

@@ -404,7 +404,11 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   }
   PipelineOptions options;
   options.localize = false;
+  // The keypoint detector's configuration (evaluate --detector): its detections, turned here,
+  // neither dispute nor replace a track's turn.
   options.search_orientations = true;
+  options.orientation_disputes = 0;
+  options.restart_replaces_outliers = false;
   options.research_below_fit_support = research_below_fit_support;
   options.confirm_inlier_ratio = options.min_fit_support = 0.4;  // confirmed far away, turned
   FramePipeline pipeline(bench->catalog, bench->map, options);

@@ -164,9 +164,10 @@ Schema<T> associationParams() {
       flag<T>("contest_restarts", kAssociation, PIPE(contest_restarts), kRuntime,
               "a detection restarts a lost track only if the measurements support it better than "
               "the track pose"),
-      flag<T>("restart_replaces_outliers", kAssociation, PIPE(restart_replaces_outliers), kRuntime,
-              "a restarting detection outside the 99.9 % gate of the track filter replaces its pose "
-              "instead of being averaged with it"),
+      flag<T>(
+          "restart_replaces_outliers", kAssociation, PIPE(restart_replaces_outliers), kRuntime,
+          "a restarting detection outside the 99.9 % gate of the track filter replaces its pose "
+          "instead of being averaged with it"),
       number<T>("lost_track_max_jump_m", kAssociation, PIPE(lost_track_max_jump_m), 0.0, 1.0, "m",
                 kRuntime,
                 "a lost track ignores fits farther than this from where it was lost, until a "
