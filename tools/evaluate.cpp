@@ -9,6 +9,10 @@
 //        write_map writes it as files, the way the tracker nodelet takes it)
 //       [--oracle-localization]   (robot pose from the bag's ground truth:
 //       objects scored alone)
+//       [--localization own|external]  (own: the pipeline localizes against the map;
+//                                  external: map -> odom from the bag's /tf, as amcl would give)
+//       [--odom-frame F] [--base-frame F]  (the robot's frames in the bag; default odom, base_link.
+//                                  A camera-only recording: --odom-frame map --base-frame CAMERA)
 //       [--detector MODEL.yaml|default]  (hypotheses from the keypoint detector
 //       on the bag's RGB
 //                                         images instead of the bag's
@@ -60,18 +64,27 @@ struct Args {
   std::string furniture;  // furniture YAML (relations/furniture.hpp); replaces
                           // the building's workbench
   bool plots = true;
-  bool oracle_localization = false;  // robot pose from the ground truth: scores objects alone
-  std::string detector;              // model metadata YAML; empty: the bag's hypotheses
+  bool oracle_localization = false;    // robot pose from the ground truth: scores objects alone
+  bool external_localization = false;  // map -> odom from the bag's /tf
+  sgt::ros::BagTopics topics;
+  std::string detector;  // model metadata YAML; empty: the bag's hypotheses
   bool relations = true;
   std::string params = std::string(SGT_SOURCE_DIR) + "/config/tracker.yaml";
   std::string detector_params = std::string(SGT_SOURCE_DIR) + "/config/detector.yaml";
 };
+
+// --localization: true for external, false for own.
+bool localizationMode(const sgt::cli::Flags& flags, const std::string& mode) {
+  if (mode != "own" && mode != "external") flags.fail("--localization takes own or external");
+  return mode == "external";
+}
 
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("evaluate",
                               "--bag IN.bag --output DIR [--map building|FILE] "
                               "[--furniture FILE] [--catalog FILE] "
                               "[--mesh-dir DIR] [--no-plots] [--oracle-localization] "
+                              "[--localization own|external] [--odom-frame F] [--base-frame F] "
                               "[--detector MODEL.yaml|default] "
                               "[--scenario FILE] [--no-relations] [--params FILE] "
                               "[--detector-params FILE]");
@@ -93,6 +106,12 @@ Args parse(int argc, char** argv) {
       a.plots = false;
     else if (k == "--oracle-localization")
       a.oracle_localization = true;
+    else if (k == "--localization")
+      a.external_localization = localizationMode(flags, value());
+    else if (k == "--odom-frame")
+      a.topics.odom_frame = value();
+    else if (k == "--base-frame")
+      a.topics.base_frame = value();
     else if (k == "--detector")
       a.detector = value();
     else if (k == "--scenario")
@@ -179,7 +198,7 @@ class Evaluation {
   bool first_ = true;
 };
 
-Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag) {
+Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag, args.topics) {
   using namespace sgt;
   params::applyYamlFile(params::trackerSchema(), tracker_params_, args.params);
   if (!args.detector.empty())
@@ -201,7 +220,7 @@ void Evaluation::setUpPipeline() {
   using namespace sgt;
   auto map = std::make_shared<TriangleMesh>(building_ ? building_->mesh : loadStaticMap(args_.map));
   PipelineOptions options = tracker_params_.pipeline;
-  if (args_.oracle_localization) options.localize = false;
+  if (args_.oracle_localization || args_.external_localization) options.localize = false;
   if (!args_.relations) options.compute_relations = false;
   // The keypoint detector mixes up box corners (a turned box); simulated
   // hypotheses do not, and on nearly symmetric shapes the search can trade
@@ -251,6 +270,9 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
   }
   if (args_.oracle_localization && bf.truth && bf.truth->T_map_base)
     pipeline_->setMapOdom(*bf.truth->T_map_base * bf.frame.T_odom_base.inverse());
+  else if (args_.external_localization) {
+    if (const auto T = reader_.mapToOdom(bf.frame.stamp)) pipeline_->setMapOdom(*T);
+  }
   const double detect_ms = detector_ ? detect(bf) : 0.0;
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;

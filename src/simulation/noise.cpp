@@ -23,4 +23,14 @@ void addRangeNoise(RangeMeasurements& m, double sigma, std::uint32_t seed) {
     if (m.valid(i)) m.range[i] += static_cast<float>(gauss(rng));
 }
 
+Eigen::Isometry3d disturbPose(const Eigen::Isometry3d& T, double sigma_t, double sigma_r,
+                              std::mt19937& rng, std::normal_distribution<double>& gauss) {
+  Eigen::Isometry3d out = T;
+  out.translation() += sigma_t * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+  const Eigen::Vector3d w = sigma_r * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+  if (w.norm() > 0.0)
+    out.linear() = out.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  return out;
+}
+
 }  // namespace sgt

@@ -247,13 +247,8 @@ std::vector<Hypothesis> ScenarioWorld::detect(const CameraFrame& frame,
     Hypothesis h;
     h.class_name = s_.objects[i].class_name;
     h.object = static_cast<int>(i);
-    h.T_camera_object = T_camera_map * frame.T_map_objects[i];
-    h.T_camera_object.translation() +=
-        d.sigma_t * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
-    const Eigen::Vector3d w = sigma_r * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
-    if (w.norm() > 0.0)
-      h.T_camera_object.linear() = h.T_camera_object.linear() *
-                                   Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+    h.T_camera_object =
+        disturbPose(T_camera_map * frame.T_map_objects[i], d.sigma_t, sigma_r, rng, gauss);
     const double seen = std::min(1.0, frame.visible_pixels[i] / 2000.0);
     h.score = static_cast<float>(std::clamp(0.55 + 0.4 * seen + 0.03 * gauss(rng), 0.05, 1.0));
     out.push_back(std::move(h));

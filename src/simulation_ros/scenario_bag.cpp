@@ -17,52 +17,12 @@
 #include <mutex>
 #include <thread>
 
+#include "bag_messages.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/simulation/scenario_world.hpp"
 
 namespace sgt::ros {
 namespace {
-
-std_msgs::Header header(const ::ros::Time& stamp, const char* frame) {
-  std_msgs::Header h;
-  h.stamp = stamp;
-  h.frame_id = frame;
-  return h;
-}
-
-geometry_msgs::TransformStamped transform(const ::ros::Time& stamp, const char* parent,
-                                          const char* child, const Eigen::Isometry3d& T) {
-  geometry_msgs::TransformStamped t;
-  t.header = header(stamp, parent);
-  t.child_frame_id = child;
-  t.transform = toTransform(T);
-  return t;
-}
-
-sensor_msgs::Image image(const std_msgs::Header& h, int width, int height,
-                         const std::string& encoding, int channels,
-                         std::vector<std::uint8_t> data) {
-  sensor_msgs::Image img;
-  img.header = h;
-  img.width = width, img.height = height;
-  img.encoding = encoding;
-  img.is_bigendian = 0;
-  img.step = channels * width;
-  img.data = std::move(data);
-  return img;
-}
-
-// Connection header of a latched topic (what rosbag record stores for /tf_static).
-template <typename M>
-boost::shared_ptr<::ros::M_string> latched(const M& msg) {
-  auto h = boost::make_shared<::ros::M_string>();
-  (*h)["type"] = ::ros::message_traits::datatype(msg);
-  (*h)["md5sum"] = ::ros::message_traits::md5sum(msg);
-  (*h)["message_definition"] = ::ros::message_traits::definition(msg);
-  (*h)["callerid"] = "/simulate";
-  (*h)["latching"] = "1";
-  return h;
-}
 
 // Everything written at one sensor stamp.
 struct Bundle {
@@ -150,12 +110,12 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
         transform(t0, frames::kBase, frames::kCamera, s.camera.T_base_camera));
     tf_static.transforms.push_back(
         transform(t0, frames::kBase, frames::kLidar, s.lidar.T_base_lidar));
-    bag.write(topics::kTfStatic, t0, tf_static, latched(tf_static));
+    bag.write(topics::kTfStatic, t0, tf_static, latched(tf_static, "/simulate"));
     // The odometry prior's map -> odom goes on its own topic, not on /tf: on replay the tracker
     // publishes the corrected map -> odom, and two publishers of one transform fight.
     const geometry_msgs::TransformStamped prior =
         transform(t0, frames::kMap, frames::kOdom, world.mapToOdom());
-    bag.write(topics::kMapOdomPrior, t0, prior, latched(prior));
+    bag.write(topics::kMapOdomPrior, t0, prior, latched(prior, "/simulate"));
   }
 
   // Simulation runs one stamp ahead of the bag writing, in its own thread (ray casting itself
