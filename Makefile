@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo suite latency model params clean
+.PHONY: deps build test bench demo suite real latency model params clean
 
 deps:
 	@scripts/install-deps.sh
@@ -59,6 +59,28 @@ suite: build
 	@/usr/bin/python3 scripts/suite.py --tools $(TOOLS) --output $(SUITE_DIR) --count $(SUITE_COUNT) \
 	  --seed $(SUITE_SEED) --jobs $(SUITE_JOBS) $(if $(SUITE_DETECTOR),--detector $(SUITE_DETECTOR)) \
 	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR)) $(SUITE_ARGS)
+
+# A real RGB-D recording (a sequence folder: evaluation/rgbd_sequence.hpp) as a bag
+# (sequence_to_bag), then scored with the camera only: the recording's camera poses as an external
+# localization, no LiDAR, and as the static map only the plane the objects stand on (the largest
+# plane of the first frame's depth). REAL_DETECTOR= starts tracks from the given poses plus the simulated detector's noise;
+# a model yaml from the package's keypoint detector instead. Writes REAL_OUTPUT/report.json
+# (objects.depth_residual_median_mm and gt_depth_residual_median_mm too), report.md, plots, the
+# overlay frames REAL_OUTPUT/overlay/ and their contact sheet REAL_OUTPUT/overlay.jpg.
+REAL_SEQUENCE ?= ../shared/data/real/visp_rbt
+REAL_CATALOG ?= config/real/visp_rbt.yaml
+REAL_DETECTOR ?=
+REAL_OUTPUT ?= $(BUILD)/real
+REAL_SEED ?= 1
+real: build
+	@test -d $(REAL_SEQUENCE) || { echo "make real: no sequence at $(REAL_SEQUENCE) (REAL_SEQUENCE=DIR)"; exit 1; }
+	@mkdir -p $(REAL_OUTPUT)
+	$(TOOLS)/sequence_to_bag --sequence $(REAL_SEQUENCE) --output $(REAL_OUTPUT)/sequence.bag --seed $(REAL_SEED) \
+	  --plane-map $(REAL_OUTPUT)/plane.ply
+	$(TOOLS)/evaluate --bag $(REAL_OUTPUT)/sequence.bag --output $(REAL_OUTPUT) --catalog $(REAL_CATALOG) \
+	  --mesh-dir $(REAL_SEQUENCE)/models --map $(REAL_OUTPUT)/plane.ply \
+	  --odom-frame map --base-frame camera_color_optical_frame --localization external --no-relations --overlay \
+	  $(if $(REAL_DETECTOR),--detector $(REAL_DETECTOR)) $(REAL_EVALUATE_ARGS)
 
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build

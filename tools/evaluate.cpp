@@ -27,6 +27,10 @@
 //                                  use the same values)
 //       [--detector-params FILE]  (detector parameters with --detector; default
 //       config/detector.yaml)
+//       [--overlay]               (DIR/overlay/NNNNNN.jpg and the contact sheet DIR/overlay.jpg:
+//                                  tracked and given meshes' outlines on the colour images)
+//       [--surface-stride N]      (the depth residual on every N-th pixel in x and y; default 2,
+//                                  1 with --overlay)
 // Options: the structs' defaults, then the parameter files, then the flags:
 // --oracle-localization turns localize off, --no-relations relations/enabled,
 // and --detector turns search_orientations on, orientation_disputes and
@@ -36,16 +40,20 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 
 #include "command_line.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/evaluation/overlay.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/evaluation/report.hpp"
+#include "scene_graph_tracker/evaluation/surface_fit.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/bag_frames.hpp"
@@ -71,6 +79,8 @@ struct Args {
   bool relations = true;
   std::string params = std::string(SGT_SOURCE_DIR) + "/config/tracker.yaml";
   std::string detector_params = std::string(SGT_SOURCE_DIR) + "/config/detector.yaml";
+  bool overlay = false;
+  int surface_stride = 0;  // 0: 2, or 1 with the overlay
 };
 
 // --localization: true for external, false for own.
@@ -87,7 +97,7 @@ Args parse(int argc, char** argv) {
                               "[--localization own|external] [--odom-frame F] [--base-frame F] "
                               "[--detector MODEL.yaml|default] "
                               "[--scenario FILE] [--no-relations] [--params FILE] "
-                              "[--detector-params FILE]");
+                              "[--detector-params FILE] [--overlay] [--surface-stride N]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag")
@@ -122,6 +132,10 @@ Args parse(int argc, char** argv) {
       a.params = value();
     else if (k == "--detector-params")
       a.detector_params = value();
+    else if (k == "--overlay")
+      a.overlay = true;
+    else if (k == "--surface-stride")
+      a.surface_stride = std::stoi(value());
     else
       return false;
     return true;
@@ -177,6 +191,11 @@ class Evaluation {
   std::map<std::string, std::string> scoreObjects(const sgt::ros::BagFrame& bf,
                                                   const sgt::PipelineResult& r);
   bool inView(const sgt::ros::BagFrame& bf, const Eigen::Isometry3d& T_map_object) const;
+  void fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r,
+                   const std::vector<int>& match);
+  void drawOverlay(const sgt::ros::RgbFrame& rgb, const std::vector<sgt::PosedObject>& tracks,
+                   const std::vector<sgt::SurfaceFit>& fits, const std::vector<int>& track_owner,
+                   const std::vector<int>& given_owner, std::size_t given);
   double gate(const std::string& class_name) const;
 
   const Args& args_;
@@ -189,7 +208,9 @@ class Evaluation {
   std::unique_ptr<sgt::detection::PoseDetector> detector_;
   std::unique_ptr<sgt::FramePipeline> pipeline_;
   std::set<std::string> furniture_;
-  std::unique_ptr<sgt::PoseScorer> scorer_;  // ADD-S to each class's surface
+  std::unique_ptr<sgt::PoseScorer> scorer_;      // ADD-S to each class's surface
+  std::unique_ptr<sgt::SurfaceFitter> surface_;  // depth residuals of tracks and true poses
+  std::unique_ptr<sgt::OverlayWriter> overlay_;
   sgt::EvaluationReport report_;
   std::size_t frames_without_rgb_ = 0, warnings_ = 0;
   std::map<std::string, std::pair<std::size_t, std::size_t>> detections_by_class_;  // found, PnP ok
@@ -214,6 +235,12 @@ Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag, args.t
   }
   setUpPipeline();
   scorer_ = std::make_unique<PoseScorer>(*catalog_);
+  surface_ = std::make_unique<SurfaceFitter>(
+      catalog_, args.surface_stride > 0 ? args.surface_stride : (args.overlay ? 1 : 2));
+  if (args.overlay) {
+    overlay_ = std::make_unique<OverlayWriter>(args.output + "/overlay");
+    reader_.setReadRgb(true);
+  }
 }
 
 void Evaluation::setUpPipeline() {
@@ -439,10 +466,72 @@ std::map<std::string, std::string> Evaluation::scoreObjects(const sgt::ros::BagF
     }
     report_.addObject(r.stamp, t.id, t.class_name, track, e, inView(bf, t.T_map_object));
   }
+  fitSurfaces(bf, r, match);
   for (std::size_t k = 0; k < r.objects.size(); ++k)
     if (!used[k] && r.objects[k].state != sgt::TrackState::kTentative)
       report_.addFalsePositive(r.stamp, r.objects[k].id, r.objects[k].class_name);
   return track_to_object;
+}
+
+// The depth residual of each scored object's track and of its true pose on the camera image
+// (evaluation/surface_fit.hpp); with --overlay, both outlines on the colour image.
+void Evaluation::fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r,
+                             const std::vector<int>& match) {
+  const sgt::RangeMeasurements* cam = nullptr;
+  for (const sgt::RangeMeasurements& m : bf.frame.measurements)
+    if (std::holds_alternative<sgt::PinholeModel>(m.model)) cam = &m;
+  if (!cam) return;
+  const Eigen::Isometry3d T_base_camera = bf.frame.T_odom_base.inverse() * cam->T_world_sensor;
+  const Eigen::Isometry3d T_camera_map = (r.T_map_base * T_base_camera).inverse();
+  const Eigen::Isometry3d T_camera_map_true =
+      bf.truth->T_map_base ? (*bf.truth->T_map_base * T_base_camera).inverse() : T_camera_map;
+  std::vector<sgt::PosedObject> tracks, given;
+  std::vector<int> track_index(r.objects.size(), -1);
+  for (std::size_t k = 0; k < r.objects.size(); ++k)
+    if (r.objects[k].state != sgt::TrackState::kTentative) {
+      track_index[k] = static_cast<int>(tracks.size());
+      tracks.push_back(
+          {r.objects[k].id, r.objects[k].class_name, T_camera_map * r.objects[k].T_map_object});
+    }
+  const auto& truth = bf.truth->objects;
+  std::vector<int> truth_index(truth.size(), -1);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (catalog_->contains(truth[i].class_name)) {
+      truth_index[i] = static_cast<int>(given.size());
+      given.push_back(
+          {truth[i].id, truth[i].class_name, T_camera_map_true * truth[i].T_map_object});
+    }
+  std::vector<int> track_owner, given_owner;
+  const auto track_fits = surface_->fit(*cam, tracks, overlay_ ? &track_owner : nullptr);
+  const auto given_fits = surface_->fit(*cam, given, overlay_ ? &given_owner : nullptr);
+  const auto residual = [](const sgt::SurfaceFit& f) {
+    return f.visible_pixels > 0 ? std::optional<double>(f.median_residual_m) : std::nullopt;
+  };
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth_index[i] < 0) continue;
+    const int k = match[i] >= 0 ? track_index[match[i]] : -1;
+    report_.addSurfaceFit(r.stamp, truth[i].id, k >= 0 ? residual(track_fits[k]) : std::nullopt,
+                          residual(given_fits[truth_index[i]]));
+  }
+  if (overlay_ && bf.rgb)
+    drawOverlay(*bf.rgb, tracks, track_fits, track_owner, given_owner, given.size());
+}
+
+void Evaluation::drawOverlay(const sgt::ros::RgbFrame& rgb,
+                             const std::vector<sgt::PosedObject>& tracks,
+                             const std::vector<sgt::SurfaceFit>& fits,
+                             const std::vector<int>& track_owner,
+                             const std::vector<int>& given_owner, std::size_t given) {
+  std::vector<sgt::OverlayObject> labels;
+  for (std::size_t k = 0; k < tracks.size(); ++k) {
+    std::ostringstream text;
+    text << tracks[k].id;
+    if (fits[k].visible_pixels > 0)
+      text << " " << std::fixed << std::setprecision(1) << fits[k].median_residual_m * 1000
+           << " mm";
+    labels.push_back({text.str(), static_cast<int>(k)});
+  }
+  overlay_->add(rgb.rgb, track_owner, labels, given_owner, given);
 }
 
 void Evaluation::write() const {
@@ -450,6 +539,7 @@ void Evaluation::write() const {
   std::ofstream(args_.output + "/report.json") << report_.json();
   std::ofstream(args_.output + "/report.md") << report_.markdown();
   std::ofstream(args_.output + "/timeseries.csv") << report_.timeseriesCsv();
+  if (overlay_) overlay_->writeSheet(args_.output + "/overlay.jpg");
   if (args_.plots) {
     const std::string cmd = "/usr/bin/python3 " + std::string(SGT_SOURCE_DIR) +
                             "/scripts/plot_report.py '" + args_.output + "'";

@@ -33,6 +33,7 @@ std::string num(double x) {
 
 struct ObjectStats {
   std::vector<double> add_s, add, t, r, add_or_adds;
+  std::vector<double> depth_mm, gt_depth_mm;  // surface fits, where measured
   std::size_t evaluated = 0, correct = 0, missed = 0, out_of_view = 0, correct_add_or_adds = 0;
   void add_row(const std::optional<PoseErrors>& e, bool in_view) {
     if (!in_view) {
@@ -48,6 +49,10 @@ struct ObjectStats {
     t.push_back(e->translation * 1000), r.push_back(e->rotation_deg);
     add_or_adds.push_back(e->add_or_adds * 1000);
     correct += e->correct, correct_add_or_adds += e->correct_add_or_adds;
+  }
+  void addFit(const std::optional<double>& tracked_m, const std::optional<double>& given_m) {
+    if (tracked_m) depth_mm.push_back(*tracked_m * 1000);
+    if (given_m) gt_depth_mm.push_back(*given_m * 1000);
   }
   double recall() const { return evaluated ? static_cast<double>(correct) / evaluated : 0.0; }
   double recallAddOrAdds() const {
@@ -65,6 +70,13 @@ struct ObjectStats {
       << indent << "\"rotation_error_mean_deg\": " << num(mean(r)) << ",\n"
       << indent << "\"add_or_adds_mean_mm\": " << num(mean(add_or_adds)) << ",\n"
       << indent << "\"recall_add_or_adds_10\": " << num(recallAddOrAdds());
+    if (!depth_mm.empty() || !gt_depth_mm.empty())
+      o << ",\n"
+        << indent
+        << "\"depth_residual_median_mm\": " << num(depth_mm.empty() ? NAN : quantile(depth_mm, 0.5))
+        << ",\n"
+        << indent << "\"gt_depth_residual_median_mm\": "
+        << num(gt_depth_mm.empty() ? NAN : quantile(gt_depth_mm, 0.5));
     return o.str();
   }
 };
@@ -78,12 +90,22 @@ void EvaluationReport::addFrame(double stamp, const StageTimes& times) {
 void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
                                  const std::string& track, const std::optional<PoseErrors>& e,
                                  bool in_view) {
-  objects_.push_back({stamp, id, cls, e, in_view, track});
+  objects_.push_back({stamp, id, cls, e, in_view, track, std::nullopt, std::nullopt});
   if (!in_view) return;
   if (track.empty()) return;
   std::string& last = last_track_[id];
   if (!last.empty() && last != track) ++switches_[id];
   last = track;
+}
+
+void EvaluationReport::addSurfaceFit(double stamp, const std::string& truth_id,
+                                     std::optional<double> tracked_m,
+                                     std::optional<double> given_m) {
+  for (auto r = objects_.rbegin(); r != objects_.rend() && r->stamp == stamp; ++r)
+    if (r->id == truth_id) {
+      r->depth_residual_m = tracked_m, r->gt_depth_residual_m = given_m;
+      return;
+    }
 }
 
 void EvaluationReport::addFalsePositive(double stamp, const std::string& track_id,
@@ -192,8 +214,11 @@ std::string EvaluationReport::json() const {
   ObjectStats all;
   std::map<std::string, ObjectStats> per;
   std::map<std::string, std::string> cls;
-  for (const ObjectRow& r : objects_)
+  for (const ObjectRow& r : objects_) {
     all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
+    all.addFit(r.depth_residual_m, r.gt_depth_residual_m);
+    per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m);
+  }
   std::vector<double> lt, lr, total, loc, refine, preseg, detect, relations;
   for (const FrameRow& f : frames_) {
     if (f.loc_t) lt.push_back(*f.loc_t * 1000), lr.push_back(*f.loc_r);
@@ -285,6 +310,7 @@ std::string EvaluationReport::markdown() const {
       o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
     o << ".\n";
   }
+  o << surfaceMarkdown();
   o << hypothesesMarkdown();
   std::vector<double> lt, lr, total;
   for (const FrameRow& f : frames_) {
@@ -315,24 +341,46 @@ std::string EvaluationReport::markdown() const {
   return o.str();
 }
 
+std::string EvaluationReport::surfaceMarkdown() const {
+  std::map<std::string, ObjectStats> per;
+  for (const ObjectRow& r : objects_) per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m);
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(2);
+  bool any = false;
+  for (const auto& [id, s] : per) {
+    if (s.depth_mm.empty() && s.gt_depth_mm.empty()) continue;
+    if (!any)
+      o << "\nDepth residual on the visible surface, median over frames (mm):\n\n"
+           "| object | tracked pose | given pose | frames fitted |\n|---|---|---|---|\n";
+    any = true;
+    const auto med = [](const std::vector<double>& v) {
+      return v.empty() ? std::string("–") : num(std::round(quantile(v, 0.5) * 100) / 100);
+    };
+    o << "| " << id << " | " << med(s.depth_mm) << " | " << med(s.gt_depth_mm) << " | "
+      << s.depth_mm.size() << " |\n";
+  }
+  return o.str();
+}
+
 std::string EvaluationReport::timeseriesCsv() const {
   std::ostringstream o;
   o << std::setprecision(15);  // stamps are ~1.7e9 s: keep the milliseconds
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
-       "loc_t_mm,loc_r_deg,track\n";
+       "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm\n";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
       << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "")
-      << ",,,,,,,," << r.track << "\n";
+      << ",,,,,,,," << r.track << "," << (r.depth_residual_m ? num(*r.depth_residual_m * 1000) : "")
+      << "," << (r.gt_depth_residual_m ? num(*r.gt_depth_residual_m * 1000) : "") << "\n";
   for (const FalsePositiveRow& f : false_positives_)
     o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
-      << f.track_id << "\n";
+      << f.track_id << ",,\n";
   for (const FrameRow& f : frames_)
     o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms
       << "," << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
-      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << ",\n";
+      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << ",,,\n";
   return o.str();
 }
 

@@ -41,6 +41,13 @@ class EvaluationReport {
   // association gate, or nullopt when none was that close. hypotheses.* says how often the source
   // gave the tracker a start and how good that start was.
   void addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest);
+  // How well the matched track's pose (`tracked_m`) and the true pose (`given_m`) explain the
+  // depth image on the object's visible surface (evaluation/surface_fit.hpp): the median
+  // |measured - rendered depth|, for the object's row of the frame at `stamp` (ignored when
+  // addObject gave it none). objects.depth_residual_median_mm and
+  // objects.gt_depth_residual_median_mm are their medians.
+  void addSurfaceFit(double stamp, const std::string& truth_id, std::optional<double> tracked_m,
+                     std::optional<double> given_m);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   void addPresegmentation(const UnknownLabelCounts& counts);
   // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the
@@ -56,12 +63,14 @@ class EvaluationReport {
   std::string falsePositivesJson() const;  // the objects.false_* keys, each after a ",\n"
   std::string hypothesesJson() const;  // the hypotheses key with its trailing ",\n" (or nothing)
   std::string hypothesesMarkdown() const;
+  std::string surfaceMarkdown() const;  // the depth residual table (or nothing)
   struct ObjectRow {
     double stamp;
     std::string id, class_name;
     std::optional<PoseErrors> e;
     bool in_view = true;
     std::string track;  // the track matched to the object ("" when none)
+    std::optional<double> depth_residual_m, gt_depth_residual_m;
   };
   struct FrameRow {
     double stamp;
