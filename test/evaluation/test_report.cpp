@@ -108,5 +108,26 @@ TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
   EXPECT_TRUE(has(r.markdown(), "| screwdriver_1 | 1 | 0 | 0.000 | – | – |")) << r.markdown();
 }
 
+TEST(EvaluationReport, DepthResidualsAreMediansOverFramesPerObjectAndOverall) {
+  EvaluationReport r;
+  r.addObject(0, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
+  r.addSurfaceFit(0, "cube", 0.002, 0.005);
+  r.addObject(1, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
+  r.addSurfaceFit(1, "cube", 0.004, 0.007);
+  r.addObject(1, "dragon", "dragon", "", std::nullopt);
+  r.addSurfaceFit(1, "dragon", std::nullopt, 0.020);  // untracked: the given pose only
+  r.addSurfaceFit(2, "cube", 0.5, 0.5);               // no row of the cube at stamp 2: ignored
+  const std::string j = r.json();
+  EXPECT_TRUE(has(j, "\"depth_residual_median_mm\": 3,")) << j;      // all: 2, 4
+  EXPECT_TRUE(has(j, "\"gt_depth_residual_median_mm\": 7,")) << j;   // all: 5, 7, 20
+  EXPECT_TRUE(has(j, "\"gt_depth_residual_median_mm\": 6\n")) << j;  // the cube: 5, 7
+  EXPECT_TRUE(has(j, "\"depth_residual_median_mm\": null")) << j;    // the dragon
+  EXPECT_TRUE(has(r.markdown(), "| cube | 3 | 6 | 2 |")) << r.markdown();
+  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5\n")) << r.timeseriesCsv();
+  EvaluationReport none;
+  none.addObject(0, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
+  EXPECT_FALSE(has(none.json(), "depth_residual")) << "reports without fits keep their keys";
+}
+
 }  // namespace
 }  // namespace sgt
