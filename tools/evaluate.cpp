@@ -13,6 +13,9 @@
 //                                  external: map -> odom from the bag's /tf, as amcl would give)
 //       [--odom-frame F] [--base-frame F]  (the robot's frames in the bag; default odom, base_link.
 //                                  A camera-only recording: --odom-frame map --base-frame CAMERA)
+//       [--depth-topic T] [--depth-info-topic T] [--rgb-topic T] [--rgb-info-topic T]
+//       [--lidar-topic T] [--hypotheses-topic T]  (default: what simulate writes; image topics may
+//                                  be compressed, e.g. .../image_raw/compressedDepth)
 //       [--detector MODEL.yaml|default]  (hypotheses from the keypoint detector
 //       on the bag's RGB
 //                                         images instead of the bag's
@@ -83,6 +86,16 @@ struct Args {
   int surface_stride = 0;  // 0: 2, or 1 with the overlay
 };
 
+// The topic a --*-topic flag names, or nullptr.
+std::string* topicFlag(sgt::ros::BagTopics& t, const std::string& flag) {
+  const std::map<std::string, std::string*> flags = {
+      {"--depth-topic", &t.depth}, {"--depth-info-topic", &t.depth_info},
+      {"--rgb-topic", &t.rgb},     {"--rgb-info-topic", &t.rgb_info},
+      {"--lidar-topic", &t.lidar}, {"--hypotheses-topic", &t.hypotheses}};
+  const auto it = flags.find(flag);
+  return it == flags.end() ? nullptr : it->second;
+}
+
 // --localization: true for external, false for own.
 bool localizationMode(const sgt::cli::Flags& flags, const std::string& mode) {
   if (mode != "own" && mode != "external") flags.fail("--localization takes own or external");
@@ -95,6 +108,8 @@ Args parse(int argc, char** argv) {
                               "[--furniture FILE] [--catalog FILE] "
                               "[--mesh-dir DIR] [--no-plots] [--oracle-localization] "
                               "[--localization own|external] [--odom-frame F] [--base-frame F] "
+                              "[--depth-topic T] [--depth-info-topic T] [--rgb-topic T] "
+                              "[--rgb-info-topic T] [--lidar-topic T] [--hypotheses-topic T] "
                               "[--detector MODEL.yaml|default] "
                               "[--scenario FILE] [--no-relations] [--params FILE] "
                               "[--detector-params FILE] [--overlay] [--surface-stride N]");
@@ -122,6 +137,8 @@ Args parse(int argc, char** argv) {
       a.topics.odom_frame = value();
     else if (k == "--base-frame")
       a.topics.base_frame = value();
+    else if (std::string* topic = topicFlag(a.topics, k))
+      *topic = value();
     else if (k == "--detector")
       a.detector = value();
     else if (k == "--scenario")

@@ -5,10 +5,14 @@
 #include <rosbag/view.h>
 #include <scene_graph_tracker/ObjectPoseArray.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <tf2/buffer_core.h>
 #include <tf2/exceptions.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <boost/make_shared.hpp>
+
+#include "scene_graph_tracker/ros/compressed_images.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
 
@@ -17,6 +21,14 @@ namespace {
 
 using Stamp = std::uint64_t;  // nanoseconds
 Stamp key(const ::ros::Time& t) { return t.toNSec(); }
+
+// An image message, raw or compressed (decoded: compressed_images.hpp); null for other types.
+sensor_msgs::Image::ConstPtr imageOf(const rosbag::MessageInstance& mi) {
+  if (auto img = mi.instantiate<sensor_msgs::Image>()) return img;
+  if (auto c = mi.instantiate<sensor_msgs::CompressedImage>())
+    return boost::make_shared<const sensor_msgs::Image>(decompress(*c));
+  return nullptr;
+}
 
 std::vector<std::uint8_t> labelsOf(const sensor_msgs::Image& img) {
   if (img.encoding != "mono8" && img.encoding != "8UC1")
@@ -81,10 +93,16 @@ void FrameStream::onMessage(const rosbag::MessageInstance& mi) {
     rgb_info_ = mi.instantiate<sensor_msgs::CameraInfo>();
   } else if (topic == topics_.rgb) {
     if (!read_rgb_) return;
-    if (auto img = mi.instantiate<sensor_msgs::Image>()) rgbs_[key(img->header.stamp)] = img;
+    try {
+      if (auto img = imageOf(mi)) rgbs_[key(img->header.stamp)] = img;
+    } catch (const std::exception& e) {
+      warnings_.push_back(topic + " at " + std::to_string(mi.getTime().toSec()) +
+                          " skipped: " + e.what());
+    }
   } else {
     ::ros::Time stamp = mi.getTime();
     if (auto img = mi.instantiate<sensor_msgs::Image>()) stamp = img->header.stamp;
+    if (auto img = mi.instantiate<sensor_msgs::CompressedImage>()) stamp = img->header.stamp;
     if (auto pc = mi.instantiate<sensor_msgs::PointCloud2>()) stamp = pc->header.stamp;
     if (pending_ && stamp > pending_->header.stamp) emit();
     try {
@@ -97,7 +115,7 @@ void FrameStream::onMessage(const rosbag::MessageInstance& mi) {
 
 void FrameStream::store(const std::string& topic, const rosbag::MessageInstance& mi) {
   if (topic == topics_.depth) {
-    pending_ = mi.instantiate<sensor_msgs::Image>();
+    pending_ = imageOf(mi);
   } else if (topic == topics_.lidar) {
     assembler_.addCloud(mi.instantiate<sensor_msgs::PointCloud2>());
   } else if (topic == topics_.hypotheses) {

@@ -174,6 +174,41 @@ TEST_F(SequenceBag, TheBagReplaysAsACameraOnlyRobotWithExternalLocalization) {
   EXPECT_EQ(k, 2u);
 }
 
+TEST_F(SequenceBag, CompressedImagesReplayLikeRawOnes) {
+  const RgbdSequence s = loadRgbdSequence(dir_);
+  ros::SequenceBagOptions options;
+  const std::string raw = test::tempDir() + "/raw_" + std::to_string(count_) + ".bag";
+  ros::writeSequenceBag(s, raw, options);
+  options.compressed = true;
+  const std::string compressed = test::tempDir() + "/compressed_" + std::to_string(count_) + ".bag";
+  ros::writeSequenceBag(s, compressed, options);
+  ros::BagTopics topics = cameraOnlyTopics();
+  topics.depth += "/compressedDepth", topics.rgb += "/compressed";
+  std::vector<std::vector<float>> raw_ranges, compressed_ranges;
+  std::vector<cv::Mat> colours;
+  ros::BagFrameReader(raw, cameraOnlyTopics()).forEach([&](ros::BagFrame& bf) {
+    raw_ranges.push_back(bf.frame.measurements.at(0).range);
+  });
+  ros::BagFrameReader reader(compressed, topics);
+  reader.setReadRgb(true);
+  reader.forEach([&](ros::BagFrame& bf) {
+    EXPECT_TRUE(bf.warnings.empty());
+    compressed_ranges.push_back(bf.frame.measurements.at(0).range);
+    ASSERT_TRUE(bf.rgb);
+    colours.push_back(bf.rgb->rgb);
+  });
+  ASSERT_EQ(compressed_ranges.size(), 2u);
+  ASSERT_EQ(raw_ranges.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k)  // PNG is lossless: the same millimetres, NaN where none
+    for (std::size_t i = 0; i < raw_ranges[k].size(); ++i)
+      ASSERT_TRUE(raw_ranges[k][i] == compressed_ranges[k][i] ||
+                  (std::isnan(raw_ranges[k][i]) && std::isnan(compressed_ranges[k][i])))
+          << "pixel " << i;
+  const cv::Vec3b centre = colours[0].at<cv::Vec3b>(30, 40);  // JPEG: close to rgb (150, 120, 90)
+  EXPECT_NEAR(centre[0], 150, 3);
+  EXPECT_NEAR(centre[2], 90, 3);
+}
+
 TEST_F(SequenceBag, HypothesesCarryTheSimulatedDetectorsNoiseAndSeededMisses) {
   const RgbdSequence s = loadRgbdSequence(dir_);
   ros::SequenceBagOptions options;

@@ -25,6 +25,9 @@ class BufferCore;
 
 namespace sgt::ros {
 
+// The depth and colour topics may be raw (sensor_msgs/Image) or compressed
+// (sensor_msgs/CompressedImage, e.g. .../image_raw/compressedDepth and .../compressed:
+// compressed_images.hpp).
 struct BagTopics {
   std::string depth = "/camera/depth_registered/image_raw";
   std::string depth_info = "/camera/depth_registered/camera_info";
