@@ -2,6 +2,8 @@
 // instances, shared meshes, moving / removing / disabling instances, tiles.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 
@@ -240,4 +242,19 @@ TEST(RaycastScene, ClosestPointOnAMeshWithinARadius) {
 }
 
 }  // namespace
+// Scratch hit buffers are reused per thread, call site and size, never shared between them.
+TEST(RaycastScene, ScratchHitsAreReusedPerThreadSlotAndSize) {
+  RayHits& a = scratchHits(HitsSlot::kRefine, 64, 48);
+  EXPECT_EQ(a.size(), 64u * 48u);
+  EXPECT_EQ(&scratchHits(HitsSlot::kRefine, 64, 48), &a);
+  EXPECT_NE(&scratchHits(HitsSlot::kPresegment, 64, 48), &a);
+  RayHits& small = scratchHits(HitsSlot::kRefine, 16, 1);
+  EXPECT_NE(&small, &a);
+  EXPECT_EQ(small.size(), 16u);
+  EXPECT_EQ(a.size(), 64u * 48u);  // the other size's buffer kept its grid
+  const RayHits* other = nullptr;
+  std::thread([&] { other = &scratchHits(HitsSlot::kRefine, 64, 48); }).join();
+  EXPECT_NE(other, &a);
+}
+
 }  // namespace sgt

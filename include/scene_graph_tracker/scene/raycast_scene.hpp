@@ -43,6 +43,14 @@ struct RayHits {
   void resize(int w, int h);
 };
 
+// Per-thread ray-hit buffers, one per call site (`slot`) and grid size, that every frame's casts
+// reuse: a fresh 640 x 480 RayHits is 11 MB to allocate, fill and fault in, a cost that grew with
+// the image rather than with the rays cast. A buffer keeps the hits of its last cast; rays a cast
+// does not cover keep older values, so read only the tiles cast. A slot must not be held across
+// another use of it on the same thread.
+enum class HitsSlot { kRefine, kPresegment, kVisibility };
+RayHits& scratchHits(HitsSlot slot, int width, int height);
+
 // Rectangle of a ray grid: columns [x0, x1), rows [y0, y1).
 struct GridRect {
   int x0, y0, x1, y1;

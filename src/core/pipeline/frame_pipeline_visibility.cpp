@@ -34,8 +34,8 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
                     const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro,
                     bool limited) {
   RayCounts c;
-  RayHits hits;
   for (const RangeMeasurements& m : sets) {
+    RayHits& hits = scratchHits(HitsSlot::kVisibility, m.rays->width, m.rays->height);
     const bool coarse =
         !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),

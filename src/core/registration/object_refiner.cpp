@@ -108,7 +108,6 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   std::vector<char> degenerate(n_obj, 0);
   std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
   std::vector<int> expected(n_obj, 0);
-  RayHits hits;
   for (int round = 0; round < options_.rounds; ++round) {
     const float max_dist = thresholdOfRound(options_, round);
     // 1. Correspondences from every sensor, cast from the current estimates.
@@ -116,6 +115,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     std::fill(expected.begin(), expected.end(), 0);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
+      RayHits& hits = scratchHits(HitsSlot::kRefine, m.rays->width, m.rays->height);
       const bool last = round + 1 == options_.rounds;
       const bool coarse = (!last || !options_.full_resolution_last_round) &&
                           std::holds_alternative<PinholeModel>(m.model);

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace sgt {
 namespace {
@@ -82,6 +84,13 @@ void RayHits::resize(int w, int h) {
   normal.assign(n, Eigen::Vector3f::Zero());
   node.assign(n, kNoNode);
   primitive.assign(n, 0);
+}
+
+RayHits& scratchHits(HitsSlot slot, int width, int height) {
+  thread_local std::map<std::tuple<int, int, int>, RayHits> buffers;
+  RayHits& hits = buffers[{static_cast<int>(slot), width, height}];
+  hits.resize(width, height);
+  return hits;
 }
 
 // ------------------------------------------------------------------------------------ TileSet
