@@ -74,6 +74,10 @@ struct ObjectQuality {
 struct RefineTarget {
   NodeId node;
   const Symmetry* symmetry = nullptr;  // continuous symmetries are not fought: no spin about them
+  // This object's pull radius when below RefinerOptions::pull_radius (negative: that one). The
+  // pipeline gives each track the distance its filter lets it have moved, so that unexplained
+  // points farther away (unknown things beside it) do not pull a well-tracked object.
+  float pull_radius = -1.0f;
 };
 
 struct ObjectEstimate {

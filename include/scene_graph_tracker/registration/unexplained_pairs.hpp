@@ -22,6 +22,7 @@ struct UnexplainedPairing {
   float front_margin;   // a point counts as in front of the predicted surface beyond this (m)
   float box_margin;     // ... and as near an object within this of its box (m)
   float radius;         // largest distance to the object's surface that pairs (m)
+  const std::vector<float>* radii = nullptr;  // per object, instead of `radius` (<= 0: no pulls)
 };
 
 // `hits` must hold the cast of `tiles` of `m` that collectRayPairs made with `groups` (object k

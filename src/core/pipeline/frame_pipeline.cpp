@@ -1,7 +1,9 @@
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace sgt {
@@ -154,8 +156,18 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
     needs_orientation_.clear();
   if (tracks_.empty() || sets.empty()) return;
   std::vector<RefineTarget> targets;
-  for (const Track& t : tracks_)
-    targets.push_back({t.out.node, &catalog_->get(t.out.class_name).symmetry});
+  for (const Track& t : tracks_) {
+    RefineTarget target{t.out.node, &catalog_->get(t.out.class_name).symmetry};
+    if (options_.pull_sigmas > 0.0) {  // the largest standard deviation of the predicted position
+      const Eigen::Matrix3d P = t.filter.covariance().topLeftCorner<3, 3>();
+      const double sigma = std::sqrt(
+          std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(P, Eigen::EigenvaluesOnly)
+                            .eigenvalues()
+                            .maxCoeff()));
+      target.pull_radius = static_cast<float>(options_.pull_sigmas * sigma);
+    }
+    targets.push_back(target);
+  }
   const RefineResult r = ObjectRefiner(options_.refiner).refine(scene_, targets, sets);
   updateTracks(r, sets, stamp, dropped);
   scene_.commit();

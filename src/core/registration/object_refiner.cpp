@@ -105,6 +105,10 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   }
   if (n_obj == 0) return result;
 
+  std::vector<float> pull_radii(n_obj, options_.pull_radius);
+  for (int k = 0; k < n_obj; ++k)
+    if (targets[k].pull_radius >= 0.0f)
+      pull_radii[k] = std::min(options_.pull_radius, targets[k].pull_radius);
   std::vector<char> degenerate(n_obj, 0);
   std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
   std::vector<int> expected(n_obj, 0);
@@ -131,7 +135,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       }
       if (options_.pull_radius > 0.0f) {
         const UnexplainedPairing pulling{max_dist, options_.pull_front_margin, options_.roi_margin,
-                                         options_.pull_radius};
+                                         options_.pull_radius, &pull_radii};
         const auto pulls =
             collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
         const bool point_to_point = round < options_.pull_point_to_point_rounds;

@@ -1,5 +1,8 @@
 #include "scene_graph_tracker/registration/unexplained_pairs.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "scene_graph_tracker/registration/tile_order.hpp"
 
 namespace sgt {
@@ -33,12 +36,15 @@ std::vector<std::vector<RayPair>> collectUnexplainedPairs(
           rays.origins.empty() ? origin : Eigen::Vector3f(origin + R * rays.origins[i]);
       const Eigen::Vector3f p = ray_origin + R * (rays.directions[i] * r);
       int best = -1;
-      float radius = o.radius;
+      float nearest = std::numeric_limits<float>::infinity();
       SurfacePoint closest{}, candidate{};
       for (int k = 0; k < n_obj; ++k) {
+        const float radius = std::min(nearest, o.radii ? (*o.radii)[k] : o.radius);
         const Eigen::Vector3f q = T_object_world[k] * p;
-        if (!boxes[k].contains(q) || !scene.closestPoint(meshes[k], q, radius, candidate)) continue;
-        best = k, radius = candidate.distance, closest = candidate;
+        if (!(radius > 0.0f) || !boxes[k].contains(q) ||
+            !scene.closestPoint(meshes[k], q, radius, candidate))
+          continue;
+        best = k, nearest = candidate.distance, closest = candidate;
       }
       if (best < 0) return;
       const Eigen::Isometry3d& T = extents[best].T_world_object;
