@@ -18,7 +18,7 @@ struct PipelineOptions {
   // deviations of its predicted position: a well-tracked object is not dragged into unknown
   // things beside it, while a new or restarted one (a detection's uncertainty) is pulled as far
   // as pull_radius. 0: every track pulls as far as pull_radius.
-  double pull_sigmas = 0.0;
+  double pull_sigmas = 3.0;
   LocalizerOptions localizer;
   PresegmentOptions presegmentation;
   PoseFilterNoise motion;

@@ -158,7 +158,9 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
   std::vector<RefineTarget> targets;
   for (const Track& t : tracks_) {
     RefineTarget target{t.out.node, &catalog_->get(t.out.class_name).symmetry};
-    if (options_.pull_sigmas > 0.0) {  // the largest standard deviation of the predicted position
+    // Pulls reach as far as the track may have moved: the largest standard deviation of its
+    // predicted position, times pull_sigmas.
+    if (options_.pull_sigmas > 0.0) {
       const Eigen::Matrix3d P = t.filter.covariance().topLeftCorner<3, 3>();
       const double sigma = std::sqrt(
           std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(P, Eigen::EigenvaluesOnly)
