@@ -13,7 +13,9 @@
 #include <random>
 
 #include "paper_scene.hpp"
+#ifdef SGT_HAVE_PCL
 #include "pcl_icp_baseline.hpp"
+#endif
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
@@ -167,6 +169,7 @@ void BM_RefineObjectOneCore(benchmark::State& state) {
 }
 BENCHMARK(BM_RefineObjectOneCore)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+#ifdef SGT_HAVE_PCL  // the PCL ICP baseline: built when CMake finds PCL
 // Every valid measurement as a world point: origin + R * (direction * range).
 std::vector<Eigen::Vector3f> worldPoints(const std::vector<RangeMeasurements>& measurements) {
   std::vector<Eigen::Vector3f> out;
@@ -225,6 +228,8 @@ BENCHMARK(BM_PclIcpPointToPointFrame)
     ->Arg(60)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+#endif  // SGT_HAVE_PCL
 
 }  // namespace
 }  // namespace sgt::bench

@@ -14,10 +14,10 @@ namespace sgt {
 
 struct PipelineOptions {
   RefinerOptions refiner;
-  // Pulls (RefinerOptions::pull_radius) of a track reach no farther than this many standard
-  // deviations of its predicted position: a well-tracked object is not dragged into unknown
-  // things beside it, while a new or restarted one (a detection's uncertainty) is pulled as far
-  // as pull_radius. 0: every track pulls as far as pull_radius.
+  // Pulls (RefinerOptions::pull_radius) of a confirmed track reach no farther than this many
+  // standard deviations of its predicted position: a well-tracked object is not dragged into
+  // unknown things beside it, while a restarted one (a detection's uncertainty) is pulled as far
+  // as pull_radius, and so is a tentative one. 0: every track pulls as far as pull_radius.
   double pull_sigmas = 3.0;
   LocalizerOptions localizer;
   PresegmentOptions presegmentation;

@@ -158,9 +158,10 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
   std::vector<RefineTarget> targets;
   for (const Track& t : tracks_) {
     RefineTarget target{t.out.node, &catalog_->get(t.out.class_name).symmetry};
-    // Pulls reach as far as the track may have moved: the largest standard deviation of its
-    // predicted position, times pull_sigmas.
-    if (options_.pull_sigmas > 0.0) {
+    // A confirmed track's pulls reach as far as it may have moved: the largest standard deviation
+    // of its predicted position, times pull_sigmas. A tentative one is not established yet (it
+    // may be a false detection on something unknown): it pulls fully.
+    if (options_.pull_sigmas > 0.0 && t.life.state != TrackState::kTentative) {
       const Eigen::Matrix3d P = t.filter.covariance().topLeftCorner<3, 3>();
       const double sigma = std::sqrt(
           std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(P, Eigen::EigenvaluesOnly)

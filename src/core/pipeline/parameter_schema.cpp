@@ -270,8 +270,8 @@ Schema<T> refinementParams() {
                 "unexplained measurements this close to an object pull it towards them (0: off)"),
       number<T>(
           "refine/pull_sigmas", kRefinement, PIPE(pull_sigmas), 0.0, 100.0, "", kRuntime,
-          "... and no farther than this many standard deviations of the predicted position of "
-          "the track (0: pull_radius)"),
+          "... and, once the track is confirmed, no farther than this many standard deviations "
+          "of its predicted position (0: pull_radius)"),
       number<T>("refine/pull_front_margin", kRefinement, PIPE(refiner.pull_front_margin), 0.0, 0.5,
                 "m", kRuntime,
                 "... when they lie more than this in front of its predicted surface"),
