@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/semap/bridge.hpp"
 
 #include <functional>
+#include <set>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
 
@@ -28,23 +29,73 @@ semap::ClassShape classShape(const ObjectClass& c, std::size_t max_points) {
   return s;
 }
 
+namespace {
+
+void checkMessageSize(std::size_t n) {
+  if (n > kMaxFrameObjects)
+    throw ConversionError(std::to_string(n) + " objects in one message (at most " +
+                          std::to_string(kMaxFrameObjects) + ")");
+}
+
+void checkId(const std::string& id, std::set<std::string>& seen) {
+  if (id.empty()) throw ConversionError("an object with an empty id");
+  if (!seen.insert(id).second) throw ConversionError("object id '" + id + "' appears twice");
+}
+
+}  // namespace
+
 std::map<std::string, Eigen::Isometry3d> worldPoses(const scene_graph_tracker::SceneGraph& graph) {
+  checkMessageSize(graph.nodes.size());
   std::map<std::string, const scene_graph_tracker::SceneGraphNode*> nodes;
   for (const auto& n : graph.nodes) nodes[n.id] = &n;
   std::map<std::string, Eigen::Isometry3d> world;
-  std::function<Eigen::Isometry3d(const std::string&, std::size_t)> resolve =
-      [&](const std::string& id, std::size_t depth) {
-        if (const auto it = world.find(id); it != world.end()) return it->second;
-        if (depth > nodes.size())
-          throw ConversionError("scene graph: parent cycle through '" + id + "'");
-        const auto* n = nodes.at(id);
-        const Eigen::Isometry3d T_parent = nodes.count(n->parent) && n->parent != id
-                                               ? resolve(n->parent, depth + 1)
-                                               : Eigen::Isometry3d::Identity();
-        return world[id] = T_parent * toEigen(n->T_parent_node);
-      };
-  for (const auto& n : graph.nodes) resolve(n.id, 0);
+  for (const auto& start : graph.nodes) {
+    // Walk up to a resolved node or the root, then compose back down: no recursion, so a long
+    // parent chain cannot overflow the stack.
+    std::vector<const scene_graph_tracker::SceneGraphNode*> chain;
+    for (const auto* n = &start; n && !world.count(n->id);) {
+      if (chain.size() > nodes.size())
+        throw ConversionError("scene graph: parent cycle through '" + n->id + "'");
+      chain.push_back(n);
+      const auto parent = nodes.find(n->parent);
+      n = parent != nodes.end() && n->parent != n->id ? parent->second : nullptr;
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const auto parent = world.find((*it)->parent);
+      const Eigen::Isometry3d T_parent = parent != world.end() && (*it)->parent != (*it)->id
+                                             ? parent->second
+                                             : Eigen::Isometry3d::Identity();
+      world[(*it)->id] = T_parent * toEigen((*it)->T_parent_node);
+    }
+  }
   return world;
+}
+
+semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, double stamp,
+                                 const ShapeLookup& shape) {
+  const auto world = worldPoses(graph);
+  semap::Frame frame;
+  frame.stamp = stamp;
+  std::set<std::string> seen;
+  for (const auto& n : graph.nodes) {
+    checkId(n.id, seen);
+    if (auto s = shape(n.class_name)) frame.objects.push_back({n.id, s, n.parent, world.at(n.id)});
+  }
+  return frame;
+}
+
+semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
+                                     double stamp, const ShapeLookup& shape) {
+  checkMessageSize(objects.objects.size());
+  semap::Frame frame;
+  frame.stamp = stamp;
+  std::set<std::string> seen;
+  for (const auto& o : objects.objects) {
+    checkId(o.id, seen);
+    const Eigen::Isometry3d T = toEigen(o.pose.pose);
+    if (auto s = shape(o.class_name)) frame.objects.push_back({o.id, s, o.parent, T});
+  }
+  return frame;
 }
 
 SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
@@ -115,26 +166,28 @@ void SemapBridge::push(semap::Frame frame) {
 }
 
 void SemapBridge::onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& msg) {
-  semap::Frame frame;
-  frame.stamp = stampOf(msg->header);
-  try {
-    const auto world = worldPoses(*msg);
-    for (const auto& n : msg->nodes)
-      if (auto s = shape(n.class_name))
-        frame.objects.push_back({n.id, s, n.parent, world.at(n.id)});
-  } catch (const std::exception& e) {
-    ROS_WARN_THROTTLE(5.0, "semap_bridge: skipping a scene graph: %s", e.what());
-    return;
-  }
-  push(std::move(frame));
+  accept([&](const ShapeLookup& shape) {
+    return frameFromSceneGraph(*msg, stampOf(msg->header), shape);
+  });
 }
 
 void SemapBridge::onTrackedObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& msg) {
+  accept([&](const ShapeLookup& shape) {
+    return frameFromTrackedObjects(*msg, stampOf(msg->header), shape);
+  });
+}
+
+// A malformed message is counted and skipped with a warning; it never stops the node.
+void SemapBridge::accept(const std::function<semap::Frame(const ShapeLookup&)>& convert) {
   semap::Frame frame;
-  frame.stamp = stampOf(msg->header);
-  for (const auto& o : msg->objects)
-    if (auto s = shape(o.class_name))
-      frame.objects.push_back({o.id, s, o.parent, toEigen(o.pose.pose)});
+  try {
+    frame = convert([this](const std::string& c) { return shape(c); });
+  } catch (const std::exception& e) {
+    ++malformed_;
+    ROS_WARN_THROTTLE(5.0, "semap_bridge: skipping a malformed message (%zu so far): %s",
+                      malformed_, e.what());
+    return;
+  }
   push(std::move(frame));
 }
 

@@ -21,6 +21,7 @@
 #include <scene_graph_tracker/TrackedObjectArray.h>
 #include <scene_graph_tracker/WhereWas.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -37,6 +38,19 @@ semap::ClassShape classShape(const ObjectClass& c, std::size_t max_points = 200)
 // that is not a node is the root. Throws ConversionError on a parent cycle.
 std::map<std::string, Eigen::Isometry3d> worldPoses(const scene_graph_tracker::SceneGraph& graph);
 
+// A class name -> its shape, or nullptr when the class is unknown (its objects are not stored).
+using ShapeLookup = std::function<std::shared_ptr<const semap::ClassShape>(const std::string&)>;
+
+// The rows one message stands for: every object of a known class at its world pose, stamped
+// `stamp`. Throws ConversionError on a malformed message (non-finite or zero-quaternion pose,
+// empty or duplicate id, parent cycle, more than kMaxFrameObjects objects): nothing of it is
+// stored.
+constexpr std::size_t kMaxFrameObjects = 10000;
+semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, double stamp,
+                                 const ShapeLookup& shape);
+semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
+                                     double stamp, const ShapeLookup& shape);
+
 class SemapBridge {
  public:
   SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh);
@@ -45,6 +59,7 @@ class SemapBridge {
  private:
   void onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& msg);
   void onTrackedObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& msg);
+  void accept(const std::function<semap::Frame(const ShapeLookup&)>& convert);
   void push(semap::Frame frame);
   std::shared_ptr<const semap::ClassShape> shape(const std::string& class_name);
 
@@ -70,6 +85,7 @@ class SemapBridge {
   std::unique_ptr<semap::SemapWriter> writer_;
   double write_period_ = 0.0, relation_period_ = 0.5;
   std::optional<double> last_write_, last_relations_;
+  std::size_t malformed_ = 0;  // messages skipped for their content
 
   std::mutex query_mutex_;
   std::unique_ptr<semap::SemapDb> query_db_;
