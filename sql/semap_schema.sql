@@ -1,12 +1,21 @@
 -- SEMAP-style spatial database of the scene graph tracker (PostgreSQL 15, PostGIS 3.3, SFCGAL 1.4).
--- Idempotent: the semap_bridge node runs it at every connection (then sql/semap_relations.sql).
+-- Idempotent: the semap_bridge node runs it at every connection (then sql/semap_relations.sql), as
+-- the role that owns the database (scripts/semap-db.sh: semap_bridge, no superuser).
 --
 -- Boxes are closed POLYHEDRALSURFACE Z built with ST_MakeSolid. The solid flag is kept through
 -- ST_Affine and in table columns (not through WKT/WKB), and with it PostGIS' native 3D measures
 -- treat the box as a volume: ST_3DDistance of a point inside is 0, ST_3DIntersects of a box
 -- inside another is true.
-CREATE EXTENSION IF NOT EXISTS postgis;
-CREATE EXTENSION IF NOT EXISTS postgis_sfcgal;
+-- The extensions are created once by the database superuser (scripts/semap-db.sh start); the bridge's
+-- role cannot, and needs not, create them.
+DO $$
+BEGIN
+  IF (SELECT count(*) FROM pg_extension WHERE extname IN ('postgis', 'postgis_sfcgal')) < 2 THEN
+    RAISE EXCEPTION 'semap: the extensions postgis and postgis_sfcgal are missing in database %', current_database()
+      USING HINT = 'run scripts/semap-db.sh start DIR PORT, or as a superuser: CREATE EXTENSION postgis; CREATE EXTENSION postgis_sfcgal;';
+  END IF;
+END
+$$;
 
 -- Object descriptions: the class's bounding box in its own frame (extents and as a solid) and a
 -- simplified hull (3D convex hull of at most a few hundred mesh vertices, object frame).
@@ -46,6 +55,7 @@ CREATE TABLE IF NOT EXISTS pose_history (
   arrival bigserial,  -- order in which the rows were written
   PRIMARY KEY (instance_id, stamp)
 );
+CREATE INDEX IF NOT EXISTS pose_history_stamp ON pose_history (stamp);  -- pruning by age
 
 -- Intervals in which a relation held (until NULL: still holds), kept by semap_update_relations().
 CREATE TABLE IF NOT EXISTS relation_history (

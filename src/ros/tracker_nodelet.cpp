@@ -15,6 +15,7 @@
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/parameters.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
+#include "scene_graph_tracker/ros/track_id_store.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
 
 namespace sgt::ros {
@@ -78,6 +79,13 @@ void TrackerNodelet::onInit() {
   auto map = std::make_shared<TriangleMesh>(loadStaticMap(map_path));
   pipeline_ = std::make_unique<FramePipeline>(catalog, map, o);
   if (!furniture_path.empty()) pipeline_->setFurniture(relations::loadFurniture(furniture_path));
+  track_ids_ = TrackIdStore(p.node.track_id_file);
+  try {
+    pipeline_->continueTrackNumbers(track_ids_.load());
+    saved_track_numbers_ = pipeline_->lastTrackNumbers();
+  } catch (const TrackIdStoreError& e) {
+    NODELET_ERROR("tracker: %s; track ids start at 1 and may repeat earlier runs' ids", e.what());
+  }
   NODELET_INFO(
       "tracker: %zu classes from %s, static map %s (%zu triangles), %zu pieces of furniture",
       catalog->size(), catalog_path.c_str(), map_path.c_str(), map->triangleCount(),
@@ -158,6 +166,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
     const PipelineResult r = pipeline_->process(std::move(frame.frame));
     counts_.hypotheses_over_limits += r.hypotheses_over_limits;
     publish(r, stamp);
+    saveTrackNumbers();
     ++counts_.processed;
     publishDiagnostics("", &r);
   } catch (const std::exception& e) {
@@ -174,6 +183,18 @@ void TrackerNodelet::waitForTransforms(const sensor_msgs::Image& depth) {
   const ::ros::Duration wait(0.05);
   tf_buffer_->canTransform(odom_frame_, base_frame_, depth.header.stamp, wait);
   tf_buffer_->canTransform(odom_frame_, depth.header.frame_id, depth.header.stamp, wait);
+}
+
+// Written when a class got a new track: rare, and the file is tiny.
+void TrackerNodelet::saveTrackNumbers() {
+  if (!track_ids_.enabled() || pipeline_->lastTrackNumbers() == saved_track_numbers_) return;
+  try {
+    track_ids_.save(pipeline_->lastTrackNumbers());
+    saved_track_numbers_ = pipeline_->lastTrackNumbers();
+  } catch (const TrackIdStoreError& e) {
+    ++counts_.warnings;
+    warn(e.what());
+  }
 }
 
 bool TrackerNodelet::acceptStamp(const ::ros::Time& stamp) {
@@ -201,6 +222,8 @@ bool TrackerNodelet::acceptStamp(const ::ros::Time& stamp) {
 void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) {
   std_msgs::Header header;
   header.stamp = stamp, header.frame_id = map_frame_;
+  // Numbered from 1: a subscriber (semap_bridge) can count the messages it never received.
+  header.seq = static_cast<std::uint32_t>(++published_);
   scene_graph_tracker::TrackedObjectArray objects;
   scene_graph_tracker::SceneGraph graph;
   objects.header = graph.header = header;

@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/semap/bridge.hpp"
 
+#include <cmath>
 #include <functional>
 #include <set>
 
@@ -98,23 +99,47 @@ semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArr
   return frame;
 }
 
-SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
-  settings_.host = pnh.param<std::string>("db_host", settings_.host);
-  settings_.port = pnh.param("db_port", settings_.port);
-  settings_.user = pnh.param<std::string>("db_user", settings_.user);
-  settings_.password = pnh.param<std::string>("db_password", settings_.password);
-  settings_.dbname = pnh.param<std::string>("db_name", settings_.dbname);
-  settings_.connect_timeout_s = pnh.param("connect_timeout", settings_.connect_timeout_s);
-  settings_.sql_dir = pnh.param<std::string>("sql_dir", "");
-  settings_.factor = pnh.param("factor", settings_.factor);
-  settings_.on_max_distance = pnh.param("on_max_distance", settings_.on_max_distance);
-  settings_.tolerance = pnh.param("tolerance", settings_.tolerance);
-  semap::WriterOptions options;
-  options.queue_size = static_cast<std::size_t>(
-      std::max(1, pnh.param("queue_size", static_cast<int>(options.queue_size))));
-  options.backoff_min_s = pnh.param("backoff_min", options.backoff_min_s);
-  options.backoff_max_s = pnh.param("backoff_max", options.backoff_max_s);
-  options.flush_timeout_s = pnh.param("flush_timeout", options.flush_timeout_s);
+namespace {
+
+semap::DbSettings dbSettings(const ::ros::NodeHandle& pnh) {
+  semap::DbSettings s;
+  s.host = pnh.param<std::string>("db_host", s.host);
+  s.port = pnh.param("db_port", s.port);
+  s.user = pnh.param<std::string>("db_user", s.user);
+  s.password = pnh.param<std::string>("db_password", s.password);
+  s.passfile = pnh.param<std::string>("db_passfile", s.passfile);
+  s.dbname = pnh.param<std::string>("db_name", s.dbname);
+  s.connect_timeout_s = pnh.param("connect_timeout", s.connect_timeout_s);
+  s.tcp_timeout_s = pnh.param("tcp_timeout", s.tcp_timeout_s);
+  s.statement_timeout_s = pnh.param("statement_timeout", s.statement_timeout_s);
+  s.sql_dir = pnh.param<std::string>("sql_dir", "");
+  s.factor = pnh.param("factor", s.factor);
+  s.on_max_distance = pnh.param("on_max_distance", s.on_max_distance);
+  s.tolerance = pnh.param("tolerance", s.tolerance);
+  if (!s.password.empty())
+    ROS_WARN(
+        "semap_bridge: ~db_password is readable by every node on this ROS master; prefer "
+        "~db_passfile (a 0600 libpq password file, as scripts/semap-db.sh writes)");
+  return s;
+}
+
+semap::WriterOptions writerOptions(const ::ros::NodeHandle& pnh) {
+  semap::WriterOptions o;
+  o.queue_size = static_cast<std::size_t>(
+      std::max(1, pnh.param("queue_size", static_cast<int>(o.queue_size))));
+  o.backoff_min_s = pnh.param("backoff_min", o.backoff_min_s);
+  o.backoff_max_s = pnh.param("backoff_max", o.backoff_max_s);
+  o.flush_timeout_s = pnh.param("flush_timeout", o.flush_timeout_s);
+  o.history_retention_s = pnh.param("history_retention", o.history_retention_s);
+  o.prune_period_s = pnh.param("prune_period", o.prune_period_s);
+  return o;
+}
+
+}  // namespace
+
+SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
+    : settings_(dbSettings(pnh)), service_spinner_(1, &service_queue_) {
+  const semap::WriterOptions options = writerOptions(pnh);
   write_period_ = pnh.param("write_period", write_period_);
   relation_period_ = pnh.param("relation_period", relation_period_);
   std::string catalog = pnh.param<std::string>("catalog", "");
@@ -123,21 +148,71 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh) {
 
   writer_ = std::make_unique<semap::SemapWriter>(settings_, options);
   const std::string source = pnh.param<std::string>("source", "scene_graph");
+  // The subscription's own thread only converts and queues (never waits for the database); the
+  // services run on a second thread, so a slow query cannot make the subscriber drop messages.
+  const int queue = std::max(1, pnh.param("subscriber_queue", 100));
   if (source == "tracked_objects")
-    sub_ = nh.subscribe("tracked_objects", 10, &SemapBridge::onTrackedObjects, this);
+    sub_ = nh.subscribe("tracked_objects", queue, &SemapBridge::onTrackedObjects, this);
   else
-    sub_ = nh.subscribe("scene_graph", 10, &SemapBridge::onSceneGraph, this);
+    sub_ = nh.subscribe("scene_graph", queue, &SemapBridge::onSceneGraph, this);
+  ::ros::NodeHandle spnh(pnh);
+  spnh.setCallbackQueue(&service_queue_);
   services_.push_back(
-      pnh.advertiseService("query_relations", &SemapBridge::onQueryRelations, this));
-  services_.push_back(pnh.advertiseService("objects_on", &SemapBridge::onObjectsOn, this));
-  services_.push_back(pnh.advertiseService("objects_in", &SemapBridge::onObjectsIn, this));
+      spnh.advertiseService("query_relations", &SemapBridge::onQueryRelations, this));
+  services_.push_back(spnh.advertiseService("objects_on", &SemapBridge::onObjectsOn, this));
+  services_.push_back(spnh.advertiseService("objects_in", &SemapBridge::onObjectsIn, this));
   services_.push_back(
-      pnh.advertiseService("directional_relations", &SemapBridge::onDirectional, this));
-  services_.push_back(pnh.advertiseService("where_was", &SemapBridge::onWhereWas, this));
-  services_.push_back(pnh.advertiseService("relation_since", &SemapBridge::onRelationSince, this));
+      spnh.advertiseService("directional_relations", &SemapBridge::onDirectional, this));
+  services_.push_back(spnh.advertiseService("where_was", &SemapBridge::onWhereWas, this));
+  services_.push_back(spnh.advertiseService("relation_since", &SemapBridge::onRelationSince, this));
+  service_spinner_.start();
+  diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
+  diagnostics_timer_ = nh.createWallTimer(
+      ::ros::WallDuration(1.0), [this](const ::ros::WallTimerEvent&) { publishDiagnostics(); });
   ROS_INFO("semap_bridge: %s -> postgresql://%s@%s:%d/%s (queue %zu frames, %zu classes)",
            sub_.getTopic().c_str(), settings_.user.c_str(), settings_.host.c_str(), settings_.port,
            settings_.dbname.c_str(), options.queue_size, catalog_.size());
+}
+
+SemapBridge::~SemapBridge() { service_spinner_.stop(); }
+
+BridgeCounts SemapBridge::counts() const {
+  std::lock_guard<std::mutex> lock(counts_mutex_);
+  BridgeCounts c = counts_;
+  c.writer = writer_->stats();
+  return c;
+}
+
+// One status, "scene_graph_tracker: semap_bridge": every counter, WARN while frames are lost or the
+// database is unreachable. Identity: pushed = written + dropped + rejected + pending.
+void SemapBridge::publishDiagnostics() {
+  const BridgeCounts c = counts();
+  diagnostic_msgs::DiagnosticStatus s;
+  s.name = "scene_graph_tracker: semap_bridge", s.hardware_id = settings_.dbname;
+  const bool ok = c.writer.connected && c.malformed == 0 && c.missed == 0 &&
+                  c.writer.dropped == 0 && c.writer.rejected == 0;
+  s.level = ok ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
+  s.message = !c.writer.connected ? "database unreachable, frames queued"
+              : ok                ? "storing"
+                                  : "storing; some messages were not stored (see the counts)";
+  const auto kv = [&](const char* k, double v) {
+    diagnostic_msgs::KeyValue x;
+    x.key = k, x.value = std::to_string(v);
+    if (x.value.find('.') != std::string::npos && v == std::floor(v))
+      x.value = std::to_string(static_cast<long long>(v));
+    s.values.push_back(x);
+  };
+  kv("messages_in", c.messages_in), kv("messages_missed", c.missed),
+      kv("messages_malformed", c.malformed), kv("throttled", c.throttled);
+  kv("pushed", c.writer.pushed), kv("written", c.writer.written), kv("dropped", c.writer.dropped),
+      kv("rejected", c.writer.rejected), kv("pending", c.writer.pending);
+  kv("duplicate_frames", c.writer.duplicate_frames), kv("duplicate_rows", c.writer.duplicate_rows);
+  kv("pruned_rows", c.writer.pruned_rows), kv("connects", c.writer.connects),
+      kv("failed_attempts", c.writer.failed_attempts), kv("last_outage_s", c.writer.last_outage_s);
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ::ros::Time::now();
+  array.status.push_back(s);
+  diagnostics_pub_.publish(array);
 }
 
 std::shared_ptr<const semap::ClassShape> SemapBridge::shape(const std::string& class_name) {
@@ -153,8 +228,11 @@ std::shared_ptr<const semap::ClassShape> SemapBridge::shape(const std::string& c
 }
 
 void SemapBridge::push(semap::Frame frame) {
-  if (last_write_ && frame.stamp >= *last_write_ && frame.stamp - *last_write_ < write_period_)
+  if (last_write_ && frame.stamp >= *last_write_ && frame.stamp - *last_write_ < write_period_) {
+    std::lock_guard<std::mutex> lock(counts_mutex_);
+    ++counts_.throttled;  // by ~write_period: not lost, just not stored
     return;
+  }
   if (last_write_ && frame.stamp < *last_write_) {
     ROS_WARN("semap_bridge: time went back by %.3f s (bag restarted?)", *last_write_ - frame.stamp);
     last_relations_.reset();
@@ -166,29 +244,45 @@ void SemapBridge::push(semap::Frame frame) {
 }
 
 void SemapBridge::onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& msg) {
-  accept([&](const ShapeLookup& shape) {
+  accept(msg->header, [&](const ShapeLookup& shape) {
     return frameFromSceneGraph(*msg, stampOf(msg->header), shape);
   });
 }
 
 void SemapBridge::onTrackedObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& msg) {
-  accept([&](const ShapeLookup& shape) {
+  accept(msg->header, [&](const ShapeLookup& shape) {
     return frameFromTrackedObjects(*msg, stampOf(msg->header), shape);
   });
 }
 
 // A malformed message is counted and skipped with a warning; it never stops the node.
-void SemapBridge::accept(const std::function<semap::Frame(const ShapeLookup&)>& convert) {
+void SemapBridge::accept(const std_msgs::Header& header,
+                         const std::function<semap::Frame(const ShapeLookup&)>& convert) {
+  countSequence(header.seq);
   semap::Frame frame;
   try {
     frame = convert([this](const std::string& c) { return shape(c); });
   } catch (const std::exception& e) {
-    ++malformed_;
+    std::lock_guard<std::mutex> lock(counts_mutex_);
+    ++counts_.malformed;
     ROS_WARN_THROTTLE(5.0, "semap_bridge: skipping a malformed message (%zu so far): %s",
-                      malformed_, e.what());
+                      counts_.malformed, e.what());
     return;
   }
   push(std::move(frame));
+}
+
+// The tracker numbers its messages (header.seq from 1): a gap is a message lost before the bridge
+// (e.g. in a full subscriber queue). Publishers that leave seq at 0 are not checked.
+void SemapBridge::countSequence(std::uint32_t seq) {
+  std::lock_guard<std::mutex> lock(counts_mutex_);
+  ++counts_.messages_in;
+  if (seq != 0 && last_seq_ != 0 && seq > last_seq_ + 1) {
+    counts_.missed += seq - last_seq_ - 1;
+    ROS_WARN_THROTTLE(5.0, "semap_bridge: %u messages lost before the bridge (%zu so far)",
+                      seq - last_seq_ - 1, counts_.missed);
+  }
+  last_seq_ = seq;
 }
 
 template <class Response, class F>

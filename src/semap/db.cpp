@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/semap/db.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <pqxx/pqxx>
@@ -87,6 +88,10 @@ std::string DbSettings::connectionString() const {
                   " connect_timeout=" + std::to_string(connect_timeout_s) +
                   " application_name='scene_graph_tracker semap'";
   if (!password.empty()) s += " password=" + quoted(password);
+  if (!passfile.empty()) s += " passfile=" + quoted(passfile);
+  s += " keepalives=1 keepalives_idle=" + std::to_string(std::max(1, keepalive_idle_s)) +
+       " keepalives_interval=2 keepalives_count=3 tcp_user_timeout=" +
+       std::to_string(static_cast<long>(std::max(0.0, tcp_timeout_s) * 1000));
   return s;
 }
 
@@ -134,8 +139,9 @@ void SemapDb::installSchema() {
   w.commit();
 }
 
-void SemapDb::writeFrame(const Frame& frame) {
+SemapDb::WriteResult SemapDb::writeFrame(const Frame& frame) {
   relation_error_.clear();
+  WriteResult result;
   pqxx::work w(impl_->conn);
   std::set<std::string> new_classes;
   for (const InstancePose& o : frame.objects) {
@@ -151,9 +157,15 @@ void SemapDb::writeFrame(const Frame& frame) {
     if (!o.shape) continue;
     const Eigen::Vector3d t = o.T_world_object.translation();
     const Eigen::Quaterniond q(o.T_world_object.rotation());
-    for (const char* sql : {kUpsertInstance, kInsertPose})
-      w.exec_params(sql, o.id, o.shape->name, o.parent, frame.stamp, t.x(), t.y(), t.z(), q.w(),
-                    q.x(), q.y(), q.z());
+    for (const char* sql : {kUpsertInstance, kInsertPose}) {
+      const pqxx::result r = w.exec_params(sql, o.id, o.shape->name, o.parent, frame.stamp, t.x(),
+                                           t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+      if (sql == kInsertPose) ++(r.affected_rows() > 0 ? result.pose_rows : result.duplicate_rows);
+    }
+  }
+  if (result.pose_rows == 0 && result.duplicate_rows > 0) {
+    result.duplicate = true;
+    return result;  // rolled back: a replay must not move intervals or presence back in time
   }
   if (frame.complete)
     w.exec_params(
@@ -173,6 +185,20 @@ void SemapDb::writeFrame(const Frame& frame) {
   }
   w.commit();
   classes_written_.insert(new_classes.begin(), new_classes.end());
+  return result;
+}
+
+std::size_t SemapDb::pruneHistory(double before) {
+  pqxx::work w(impl_->conn);
+  std::size_t rows = 0;
+  for (const char* sql :
+       {"DELETE FROM pose_history WHERE stamp < to_timestamp($1)",
+        "DELETE FROM relation_history WHERE until IS NOT NULL AND until < to_timestamp($1)",
+        "DELETE FROM instance i WHERE NOT present AND last_seen < to_timestamp($1) AND NOT EXISTS "
+        "(SELECT 1 FROM pose_history p WHERE p.instance_id = i.id)"})
+    rows += w.exec_params(sql, before).affected_rows();
+  w.commit();
+  return rows;
 }
 
 std::vector<RelationRow> SemapDb::relations(const std::string& subject, const std::string& relation,

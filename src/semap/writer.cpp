@@ -40,8 +40,12 @@ SemapWriter::~SemapWriter() {
 void SemapWriter::push(Frame frame) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    while (queue_.size() >= std::max<std::size_t>(options_.queue_size, 1)) {
-      queue_.pop_front();
+    // The frame being written (the front while busy_) is never dropped: it is counted once, as
+    // written or rejected.
+    const std::size_t keep = busy_ ? 1 : 0,
+                      capacity = std::max<std::size_t>(options_.queue_size, 1);
+    while (queue_.size() > keep && queue_.size() - keep >= capacity) {
+      queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(keep));
       ++stats_.dropped;
       ROS_WARN_THROTTLE(
           2.0,
@@ -107,6 +111,43 @@ void SemapWriter::sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_p
   backoff_s_ = std::min(2.0 * backoff_s_, options_.backoff_max_s);
 }
 
+SemapWriter::Outcome SemapWriter::write(const Frame& frame, std::string& error) {
+  if (!db_ && !connect()) return Outcome::kFailed;
+  try {
+    const SemapDb::WriteResult r = db_->writeFrame(frame);
+    if (!db_->relationError().empty())
+      ROS_WARN_THROTTLE(5.0, "semap: relation intervals not updated at %.3f (poses written): %s",
+                        frame.stamp, db_->relationError().c_str());
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.duplicate_rows += r.duplicate ? 0 : r.duplicate_rows;
+    if (!r.duplicate) return Outcome::kWritten;
+    ++stats_.duplicate_frames;
+    error = "every pose of it is stored already (a replayed stamp)";
+    return Outcome::kRejected;
+  } catch (const pqxx::sql_error& e) {
+    error = e.what();
+    return connectionError(e) || !db_->isOpen() ? Outcome::kFailed : Outcome::kRejected;
+  } catch (const std::exception& e) {  // broken_connection, in_doubt_error, ...
+    error = e.what();
+    return Outcome::kFailed;
+  }
+}
+
+void SemapWriter::prune(double newest_stamp) {
+  if (options_.history_retention_s <= 0.0 || !db_) return;
+  if (last_prune_ && newest_stamp >= *last_prune_ &&
+      newest_stamp - *last_prune_ < options_.prune_period_s)
+    return;
+  last_prune_ = newest_stamp;
+  try {
+    const std::size_t rows = db_->pruneHistory(newest_stamp - options_.history_retention_s);
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.pruned_rows += rows;
+  } catch (const std::exception& e) {  // the next write finds out whether the connection is gone
+    ROS_WARN_THROTTLE(10.0, "semap: pruning the history failed: %s", e.what());
+  }
+}
+
 void SemapWriter::run() {
   std::unique_lock<std::mutex> lock(mutex_);
   Clock::time_point deadline = Clock::time_point::max();
@@ -125,47 +166,27 @@ void SemapWriter::run() {
     const Item item = queue_.front();
     busy_ = true;
     lock.unlock();
-
-    bool written = false, rejected = false;
     std::string error;
-    if (db_ || connect()) {
-      try {
-        db_->writeFrame(item.frame);
-        written = true;
-        if (!db_->relationError().empty())
-          ROS_WARN_THROTTLE(5.0,
-                            "semap: relation intervals not updated at %.3f (poses written): %s",
-                            item.frame.stamp, db_->relationError().c_str());
-      } catch (const pqxx::sql_error& e) {
-        if (connectionError(e) || !db_->isOpen())
-          error = e.what();
-        else
-          rejected = true, error = e.what();
-      } catch (const std::exception& e) {  // broken_connection, in_doubt_error, ...
-        error = e.what();
-      }
-    }
-
+    const Outcome outcome = write(item.frame, error);
+    if (outcome == Outcome::kWritten) prune(item.frame.stamp);
     lock.lock();
     busy_ = false;
-    if (written || rejected) {
+    if (outcome != Outcome::kFailed) {
       if (!queue_.empty() && queue_.front().seq == item.seq)
         queue_.pop_front();  // unless dropped meanwhile
-      ++(written ? stats_.written : stats_.rejected);
-      if (rejected)
-        ROS_ERROR("semap: the database rejected the frame at %.3f, skipping it: %s",
-                  item.frame.stamp, error.c_str());
+      ++(outcome == Outcome::kWritten ? stats_.written : stats_.rejected);
+      if (outcome == Outcome::kRejected)
+        ROS_ERROR_THROTTLE(2.0, "semap: the frame at %.3f is not stored (%zu so far): %s",
+                           item.frame.stamp, stats_.rejected, error.c_str());
       stats_.pending = queue_.size();
       changed_.notify_all();
       continue;
     }
     if (db_) {  // the write failed on the connection: drop it, keep the frame, reconnect
-      ROS_WARN("semap: write failed (%s); keeping %zu frames queued and reconnecting",
-               error.c_str(), queue_.size());
+      ROS_WARN_THROTTLE(2.0,
+                        "semap: write failed (%s); keeping %zu frames queued, retrying in %.1f s",
+                        error.c_str(), queue_.size(), backoff_s_);
       db_.reset();
-      stats_.connected = false;
-      if (!outage_since_) outage_since_ = Clock::now();
-      continue;  // reconnect at once; backoff after a failed connection
     }
     if (!outage_since_) outage_since_ = Clock::now();
     stats_.connected = false;

@@ -2,9 +2,11 @@
 // directory (chowned to postgres when run as root), a free loopback port, started and stopped with
 // scripts/semap-db.sh (so the tests use the same script as the launch files), removed at the end.
 //   SGT_REQUIRE_POSTGRES();   // in a test: skips with a message when PostgreSQL/PostGIS are
-//   missing sgt::test::PgServer pg;   // initdb + start + database "semap" with the schema
-//   sgt::semap::SemapDb db(pg.settings());    // or pg.freshDatabase(): an empty copy with the
-//   schema
+//                             // missing; fails instead when SGT_REQUIRE_DB=1 (make test sets it)
+//   sgt::test::PgServer pg;   // initdb + start + database "semap" with the schema
+//   sgt::semap::SemapDb db(pg.settings());  // as the bridge's role (no superuser), SCRAM password
+//   pg.freshDatabase();       // an empty copy with the schema, for one test
+//   pg.superuser();           // connection settings of the superuser (fault injection)
 #pragma once
 
 #include <arpa/inet.h>
@@ -61,9 +63,8 @@ class PgServer {
   semap::DbSettings freshDatabase() {
     semap::DbSettings s = settings();
     s.dbname = "test_" + std::to_string(++databases_);
-    pqxx::connection c("host=127.0.0.1 port=" + std::to_string(port_) +
-                       " user=postgres dbname=postgres");
-    pqxx::nontransaction(c).exec("CREATE DATABASE " + s.dbname + " TEMPLATE semap");
+    pqxx::connection c(superuser().connectionString());
+    pqxx::nontransaction(c).exec("CREATE DATABASE " + s.dbname + " TEMPLATE semap OWNER " + s.user);
     return s;
   }
 
@@ -72,6 +73,12 @@ class PgServer {
   semap::DbSettings settings() const {
     semap::DbSettings s;
     s.port = port_, s.dbname = "semap", s.connect_timeout_s = 2;
+    s.user = "semap_bridge", s.passfile = dir_ + "/bridge.pgpass";
+    return s;
+  }
+  semap::DbSettings superuser() const {
+    semap::DbSettings s = settings();
+    s.user = "postgres", s.passfile = dir_ + "/superuser.pgpass", s.dbname = "postgres";
     return s;
   }
 
@@ -107,8 +114,12 @@ class PgServer {
 
 }  // namespace sgt::test
 
+// With SGT_REQUIRE_DB=1 a missing database fails the test: a skip would pass unnoticed.
 #define SGT_REQUIRE_POSTGRES()                                                         \
   do {                                                                                 \
     const std::string why = ::sgt::test::PgServer::missing();                          \
+    const char* required = std::getenv("SGT_REQUIRE_DB");                              \
+    if (!why.empty() && required && std::string(required) == "1")                      \
+      FAIL() << why << " (SGT_REQUIRE_DB=1: the SEMAP database tests must run)";       \
     if (!why.empty()) GTEST_SKIP() << why << ": the SEMAP database tests are skipped"; \
   } while (0)

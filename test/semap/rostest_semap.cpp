@@ -42,11 +42,12 @@ class SemapBridgeTest : public ::testing::Test {
     SGT_REQUIRE_POSTGRES();
     pg_ = std::make_unique<test::PgServer>();
     catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
-    const std::string port = "_db_port:=" + std::to_string(pg_->port());
+    const std::string port = "_db_port:=" + std::to_string(pg_->port()),
+                      passfile = "_db_passfile:=" + pg_->settings().passfile;
     node_ = fork();
     if (node_ == 0) {
       execl(SGT_SEMAP_BRIDGE_NODE, SGT_SEMAP_BRIDGE_NODE, "__name:=semap_bridge", port.c_str(),
-            "_write_period:=0.0", "_relation_period:=0.0", "_backoff_max:=0.3",
+            passfile.c_str(), "_write_period:=0.0", "_relation_period:=0.0", "_backoff_max:=0.3",
             static_cast<char*>(nullptr));
       _exit(127);
     }

@@ -107,7 +107,12 @@ class FramePipeline {
   std::string addTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object,
                        double stamp);
   bool removeTrack(const std::string& id);
-  void reset();  // forget every track and the map -> odom correction
+  void reset();  // forget every track and the map -> odom correction (ids keep counting)
+  // The last number given to each class's tracks ("klt" -> 3: klt_3 is the newest id).
+  const std::map<std::string, int>& lastTrackNumbers() const { return class_count_; }
+  // Continues numbering after these (never below what this pipeline gave already), e.g. from a
+  // previous run (ros/track_id_store.hpp).
+  void continueTrackNumbers(const std::map<std::string, int>& last);
   NodeId mapNode() const { return map_node_; }
   // Static reference boxes for relations (e.g. relations::workbenchEntity(building)).
   void setFurniture(std::vector<relations::Entity> furniture) { furniture_ = std::move(furniture); }

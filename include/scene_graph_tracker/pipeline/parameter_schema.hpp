@@ -71,6 +71,7 @@ struct TrackerNodeOptions {
   std::string furniture;         // optional: named boxes for relations (relations/furniture.hpp)
   std::string catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
   std::string mesh_dir;
+  std::string track_id_file;  // optional: last track numbers, kept across restarts
   // The LiDAR's rays (columns over one turn, rings from min to max elevation); the VLP-16's.
   SpinningLidarModel lidar = SpinningLidarModel::vlp16();
 };

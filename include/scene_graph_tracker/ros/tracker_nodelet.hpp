@@ -40,6 +40,7 @@
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
 #include "scene_graph_tracker/ros/stamp_order.hpp"
+#include "scene_graph_tracker/ros/track_id_store.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
 
 namespace sgt::ros {
@@ -72,6 +73,7 @@ class TrackerNodelet : public nodelet::Nodelet {
                                                    const std_msgs::Header& header);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
   bool acceptStamp(const ::ros::Time& stamp);  // stamps_: in order, or reset once on a jump back
+  void saveTrackNumbers();                     // track_ids_: when a class got a new track
   void waitForTransforms(const sensor_msgs::Image& depth);
   void warn(const std::string& text);
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);
@@ -87,6 +89,9 @@ class TrackerNodelet : public nodelet::Nodelet {
     std::size_t frames_in = 0, processed = 0, skipped = 0, failed = 0, duplicates = 0,
                 out_of_order = 0, time_jumps = 0, warnings = 0, hypotheses_over_limits = 0;
   } counts_;
+  std::uint64_t published_ = 0;
+  TrackIdStore track_ids_{""};
+  std::map<std::string, int> saved_track_numbers_;  // frames published (header.seq of the outputs)
   WarningThrottle warnings_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;

@@ -11,6 +11,8 @@
 // Parameters: config/semap.yaml.
 #pragma once
 
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <scene_graph_tracker/DirectionalRelations.h>
 #include <scene_graph_tracker/ObjectsIn.h>
@@ -51,15 +53,27 @@ semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, d
 semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
                                      double stamp, const ShapeLookup& shape);
 
+// What became of the messages. Every message in is throttled (~write_period), malformed or
+// pushed to the writer; missed counts messages that never arrived (header.seq gaps).
+struct BridgeCounts {
+  std::size_t messages_in = 0, missed = 0, malformed = 0, throttled = 0;
+  semap::WriterStats writer;
+};
+
 class SemapBridge {
  public:
   SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh);
+  ~SemapBridge();
   semap::WriterStats writerStats() const { return writer_->stats(); }
+  BridgeCounts counts() const;
 
  private:
   void onSceneGraph(const scene_graph_tracker::SceneGraphConstPtr& msg);
   void onTrackedObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& msg);
-  void accept(const std::function<semap::Frame(const ShapeLookup&)>& convert);
+  void accept(const std_msgs::Header& header,
+              const std::function<semap::Frame(const ShapeLookup&)>& convert);
+  void countSequence(std::uint32_t seq);
+  void publishDiagnostics();
   void push(semap::Frame frame);
   std::shared_ptr<const semap::ClassShape> shape(const std::string& class_name);
 
@@ -85,13 +99,19 @@ class SemapBridge {
   std::unique_ptr<semap::SemapWriter> writer_;
   double write_period_ = 0.0, relation_period_ = 0.5;
   std::optional<double> last_write_, last_relations_;
-  std::size_t malformed_ = 0;  // messages skipped for their content
+  mutable std::mutex counts_mutex_;
+  BridgeCounts counts_;  // writer stats filled in by counts()
+  std::uint32_t last_seq_ = 0;
 
   std::mutex query_mutex_;
   std::unique_ptr<semap::SemapDb> query_db_;
 
   ::ros::Subscriber sub_;
+  ::ros::CallbackQueue service_queue_;
+  ::ros::AsyncSpinner service_spinner_;
   std::vector<::ros::ServiceServer> services_;
+  ::ros::Publisher diagnostics_pub_;
+  ::ros::WallTimer diagnostics_timer_;
 };
 
 }  // namespace sgt::ros

@@ -17,10 +17,15 @@ namespace sgt::semap {
 struct DbSettings {
   std::string host = "127.0.0.1";
   int port = 5433;
-  std::string user = "postgres";
-  std::string password;  // empty: none (trust / .pgpass)
+  std::string user = "semap_bridge";  // scripts/semap-db.sh's role for the bridge (no superuser)
+  std::string password;               // empty: from passfile
+  std::string passfile;  // libpq password file (0600), e.g. DIR/bridge.pgpass; empty: ~/.pgpass
   std::string dbname = "semap";
   int connect_timeout_s = 2;
+  // A peer that stops answering (network stall, frozen server) is noticed within this: TCP
+  // keepalives and tcp_user_timeout, so no call waits on a dead connection for minutes.
+  int keepalive_idle_s = 5;
+  double tcp_timeout_s = 10.0;
   double statement_timeout_s = 10.0;  // any one SQL statement; 0: none
   std::string
       sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the source tree's sql/
@@ -82,8 +87,16 @@ class SemapDb {
   // Creates the extensions, tables and functions (idempotent).
   void installSchema();
   // One transaction: classes not written yet on this connection, instances, pose history rows and,
-  // when asked, the relation intervals. Retrying a frame after an error writes nothing twice.
-  void writeFrame(const Frame& frame);
+  // when asked, the relation intervals. Retrying a frame after an error writes nothing twice. A
+  // frame whose every pose is stored already (a replayed stamp) is rolled back: `duplicate`.
+  struct WriteResult {
+    std::size_t pose_rows = 0, duplicate_rows = 0;
+    bool duplicate = false;
+  };
+  WriteResult writeFrame(const Frame& frame);
+  // Deletes history older than `before` (s): pose rows, relation intervals that ended, and absent
+  // instances left without poses. Returns the rows deleted.
+  std::size_t pruneHistory(double before);
 
   // Empty strings are "any"; mode "strict" or "relaxed" (empty: strict).
   std::vector<RelationRow> relations(const std::string& subject, const std::string& relation,

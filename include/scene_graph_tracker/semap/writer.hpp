@@ -2,7 +2,10 @@
 // caller never waits for the database. When the server is down or restarts, frames stay queued
 // (warning, throttled), the writer reconnects with exponential backoff and writes the backlog in
 // order. A full queue drops its oldest frame, with a warning that says so. A frame the server
-// rejects for its content (not for the connection) is logged and skipped.
+// rejects for its content (not for the connection), or whose poses are all stored already (a
+// replayed stamp), is logged and counted as rejected. Every failed attempt, whatever its kind
+// (connection refused, server restarting, disk full), waits the backoff before the next one.
+// At all times: pushed = written + dropped + rejected + pending.
 #pragma once
 
 #include <chrono>
@@ -21,11 +24,17 @@ struct WriterOptions {
   std::size_t queue_size = 2000;  // frames
   double backoff_min_s = 0.1;     // first reconnection delay, doubled up to backoff_max_s
   double backoff_max_s = 2.0;
-  double flush_timeout_s = 3.0;  // on destruction: how long to keep writing the backlog
+  double flush_timeout_s = 3.0;      // on destruction: how long to keep writing the backlog
+  double history_retention_s = 0.0;  // pose and relation history older than this (message time,
+                                     // behind the newest frame) is deleted; 0: kept for ever
+  double prune_period_s = 10.0;      // message time between prunings
 };
 
 struct WriterStats {
   std::size_t pushed = 0, written = 0, dropped = 0, rejected = 0;
+  std::size_t duplicate_frames = 0;  // of rejected: every pose stored already (replayed stamps)
+  std::size_t duplicate_rows = 0;    // pose rows of written frames that were stored already
+  std::size_t pruned_rows = 0;
   std::size_t pending = 0, max_pending = 0;  // queued frames now / at most
   std::size_t connects = 0, failed_attempts = 0;
   bool connected = false;
@@ -49,6 +58,9 @@ class SemapWriter {
   void run();
   bool connect();
   void sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_point deadline);
+  enum class Outcome { kWritten, kRejected, kFailed };
+  Outcome write(const Frame& frame, std::string& error);  // writer thread, without the lock
+  void prune(double newest_stamp);                        // writer thread, without the lock
 
   const DbSettings settings_;
   const WriterOptions options_;
@@ -66,6 +78,7 @@ class SemapWriter {
   std::unique_ptr<SemapDb> db_;  // writer thread only
   double backoff_s_;
   std::optional<Clock::time_point> outage_since_;
+  std::optional<double> last_prune_;  // message time of the last pruning
   std::thread thread_;
 };
 

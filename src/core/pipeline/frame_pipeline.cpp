@@ -250,6 +250,10 @@ void FramePipeline::reset() {
   hysteresis_.clear();
 }
 
+void FramePipeline::continueTrackNumbers(const std::map<std::string, int>& last) {
+  for (const auto& [name, n] : last) class_count_[name] = std::max(class_count_[name], n);
+}
+
 void FramePipeline::setTracksEnabled(bool enabled) {
   for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, enabled);
   scene_.commit();

@@ -132,6 +132,9 @@ Schema<T> nodeParams() {
               "object catalog YAML (tracker.launch catalog)"),
       text<T>("mesh_dir", kNode, NODE(mesh_dir), false,
               "another mesh directory for the catalog classes (tracker.launch mesh_dir)"),
+      text<T>("track_id_file", kNode, NODE(track_id_file), false,
+              "YAML file of the last track number per class: ids are never reused across "
+              "restarts (tracker.launch track_id_file; empty: ids start at 1)"),
       number<T>("lidar/columns", kNode, NODE(lidar.columns), 1, 100000, "", kStart,
                 "LiDAR: columns (firings) over one turn of an organized cloud"),
       number<T>("lidar/rings", kNode, NODE(lidar.rings), 1, 1024, "", kStart,
