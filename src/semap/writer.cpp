@@ -111,7 +111,8 @@ void SemapWriter::sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_p
   backoff_s_ = std::min(2.0 * backoff_s_, options_.backoff_max_s);
 }
 
-SemapWriter::Outcome SemapWriter::write(const Frame& frame, std::string& error) {
+SemapWriter::Outcome SemapWriter::write(const Item& item, std::string& error) {
+  const Frame& frame = item.frame;
   if (!db_ && !connect()) return Outcome::kFailed;
   try {
     const SemapDb::WriteResult r = db_->writeFrame(frame);
@@ -120,7 +121,9 @@ SemapWriter::Outcome SemapWriter::write(const Frame& frame, std::string& error) 
                         frame.stamp, db_->relationError().c_str());
     std::lock_guard<std::mutex> lock(mutex_);
     stats_.duplicate_rows += r.duplicate ? 0 : r.duplicate_rows;
-    if (!r.duplicate) return Outcome::kWritten;
+    // Stored already after a failed attempt: that commit went through before the connection broke
+    // (pqxx::in_doubt_error), so the frame is written, once.
+    if (!r.duplicate || item.attempted) return Outcome::kWritten;
     ++stats_.duplicate_frames;
     error = "every pose of it is stored already (a replayed stamp)";
     return Outcome::kRejected;
@@ -167,7 +170,7 @@ void SemapWriter::run() {
     busy_ = true;
     lock.unlock();
     std::string error;
-    const Outcome outcome = write(item.frame, error);
+    const Outcome outcome = write(item, error);
     if (outcome == Outcome::kWritten) prune(item.frame.stamp);
     lock.lock();
     busy_ = false;
@@ -182,6 +185,7 @@ void SemapWriter::run() {
       changed_.notify_all();
       continue;
     }
+    if (!queue_.empty() && queue_.front().seq == item.seq) queue_.front().attempted = true;
     if (db_) {  // the write failed on the connection: drop it, keep the frame, reconnect
       ROS_WARN_THROTTLE(2.0,
                         "semap: write failed (%s); keeping %zu frames queued, retrying in %.1f s",

@@ -37,9 +37,10 @@ class PgServer {
     return "";
   }
 
-  PgServer() : port_(freePort()) {
-    char tmpl[] = "/tmp/sgt_pg_XXXXXX";
-    if (!mkdtemp(tmpl)) throw std::runtime_error("PgServer: mkdtemp failed");
+  // The cluster in a new directory under `parent` (e.g. a small file system, for a full disk).
+  explicit PgServer(const std::string& parent = "/tmp") : port_(freePort()) {
+    std::string tmpl = parent + "/sgt_pg_XXXXXX";
+    if (!mkdtemp(tmpl.data())) throw std::runtime_error("PgServer: mkdtemp failed in " + parent);
     dir_ = tmpl;
     start();
   }

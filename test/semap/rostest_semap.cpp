@@ -3,6 +3,7 @@
 // beside it), and calls every service; the answers must equal the C++ relation engine's on the
 // same boxes. Then the server is stopped: queries fail with a message, the node keeps running and
 // writes what arrived meanwhile once the server is back.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <scene_graph_tracker/DirectionalRelations.h>
@@ -225,6 +226,40 @@ TEST_F(SemapBridgeTest, KeepsRunningWhileTheDatabaseIsDown) {
   ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on));
   EXPECT_TRUE(on.response.success) << on.response.message;
   EXPECT_TRUE(on.response.ids.empty());  // the last frame (205) has the relay on the floor
+}
+
+// The bridge's diagnostics: the latest values of its counters, by key.
+std::map<std::string, double> bridgeCounters(::ros::NodeHandle& nh, double timeout = 5.0) {
+  std::map<std::string, double> out;
+  const auto msg = ::ros::topic::waitForMessage<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", nh, ::ros::Duration(timeout));
+  if (!msg) return out;
+  for (const auto& s : msg->status)
+    if (s.name == "scene_graph_tracker: semap_bridge")
+      for (const auto& kv : s.values) out[kv.key] = std::stod(kv.value);
+  return out;
+}
+
+TEST_F(SemapBridgeTest, MalformedMessagesAreCountedAndTheNodeKeepsStoring) {
+  ASSERT_TRUE(publishStored(300.0, true));
+  scene_graph_tracker::SceneGraph bad;
+  bad.header.stamp = ::ros::Time(301.0);
+  bad.nodes.resize(1);
+  bad.nodes[0].id = "klt_1", bad.nodes[0].class_name = "klt";  // zero quaternion
+  graph_pub_.publish(bad);
+  bad.nodes[0].T_parent_node.rotation.w = 1.0;
+  bad.nodes[0].T_parent_node.translation.x = std::nan("");
+  graph_pub_.publish(bad);
+  bad.nodes[0].T_parent_node.translation.x = 0.0;
+  bad.nodes.push_back(bad.nodes[0]);  // the same id twice
+  graph_pub_.publish(bad);
+  ASSERT_TRUE(publishStored(302.0, false)) << "the node should keep storing";
+  std::map<std::string, double> c;
+  for (int i = 0; i < 20 && c["messages_malformed"] < 3; ++i) c = bridgeCounters(nh_);
+  EXPECT_EQ(c["messages_malformed"], 3);
+  EXPECT_EQ(c["pushed"], c["written"] + c["dropped"] + c["rejected"] + c["pending"]);
+  EXPECT_EQ(c["messages_in"], c["messages_malformed"] + c["throttled"] + c["pushed"]);
+  EXPECT_GE(c["written"], 2);
 }
 
 }  // namespace

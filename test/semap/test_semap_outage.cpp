@@ -9,47 +9,16 @@
 
 #include "pg_server.hpp"
 #include "scene_graph_tracker/semap/writer.hpp"
+#include "writer_support.hpp"
 
 namespace sgt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::shared_ptr<const semap::ClassShape> shape(const std::string& name, double half) {
-  auto s = std::make_shared<semap::ClassShape>();
-  s->name = name,
-  s->box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-half), Eigen::Vector3d::Constant(half));
-  return s;
-}
-
-// Frame i: a table and two objects sliding over it; 20 ms apart.
-semap::Frame frame(int i) {
-  static const auto table = shape("table", 0.4), box = shape("box", 0.05);
-  semap::Frame f;
-  f.stamp = 1000.0 + 0.02 * i;
-  f.update_relations = i % 25 == 0;
-  const double x = 0.3 * std::sin(0.05 * i);
-  f.objects = {{"table_1", table, "map", Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.4))},
-               {"box_1", box, "table_1", Eigen::Isometry3d(Eigen::Translation3d(x, 0, 0.851))},
-               {"box_2", box, "table_1", Eigen::Isometry3d(Eigen::Translation3d(-x, 0.2, 0.851))}};
-  return f;
-}
-
-// The stamps stored for `id`, in the order the rows arrived.
-std::vector<double> arrivedStamps(semap::SemapDb& db, const std::string& id) {
-  std::vector<double> stamps;
-  for (const auto& row :
-       db.query("SELECT extract(epoch FROM stamp)::float8 FROM pose_history WHERE instance_id = '" +
-                id + "' ORDER BY arrival"))
-    stamps.push_back(std::stod(row[0]));
-  return stamps;
-}
-
-semap::WriterOptions fastRetry(std::size_t queue_size) {
-  semap::WriterOptions o;
-  o.queue_size = queue_size, o.backoff_min_s = 0.05, o.backoff_max_s = 0.4;
-  return o;
-}
+using test::arrivedStamps;
+using test::fastRetry;
+semap::Frame frame(int i) { return test::slidingFrame(i); }
 
 TEST(SemapOutage, ServerStoppedAndRestartedMidRunLosesNothing) {
   SGT_REQUIRE_POSTGRES();

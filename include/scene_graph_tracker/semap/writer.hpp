@@ -58,16 +58,17 @@ class SemapWriter {
   void run();
   bool connect();
   void sleepBackoff(std::unique_lock<std::mutex>& lock, Clock::time_point deadline);
-  enum class Outcome { kWritten, kRejected, kFailed };
-  Outcome write(const Frame& frame, std::string& error);  // writer thread, without the lock
-  void prune(double newest_stamp);                        // writer thread, without the lock
-
-  const DbSettings settings_;
-  const WriterOptions options_;
   struct Item {
     std::uint64_t seq;
     Frame frame;
+    bool attempted = false;  // a write of it failed on the connection before
   };
+  enum class Outcome { kWritten, kRejected, kFailed };
+  Outcome write(const Item& item, std::string& error);  // writer thread, without the lock
+  void prune(double newest_stamp);                      // writer thread, without the lock
+
+  const DbSettings settings_;
+  const WriterOptions options_;
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
   std::deque<Item> queue_;
