@@ -150,7 +150,8 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.frames_in;
   const ::ros::Time stamp = depth->header.stamp;
-  if (!acceptStamp(stamp)) return;
+  const StampVerdict verdict = stamps_.peek(stamp.toSec());
+  if (!inOrder(verdict)) return;
   AssembledFrame frame;
   try {
     frame = assembler_->assemble(*depth, *info);
@@ -160,11 +161,19 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
     publishDiagnostics(std::string("depth frame skipped: ") + e.what(), nullptr);
     return;
   }
+  stamps_.take(stamp.toSec());  // a good frame: it sets the time line
+  if (verdict == StampVerdict::kJumpBack) {
+    ++counts_.time_jumps;
+    NODELET_WARN("tracker: time went back (bag loop or clock reset): tracks reset");
+    pipeline_->reset();
+    assembler_->clear();  // clouds and hypotheses of the old time line
+  }
   counts_.warnings += frame.warnings.size();
   for (const std::string& w : frame.warnings) warn(w);
   try {  // a failure costs this frame, never the nodelet manager
     const PipelineResult r = pipeline_->process(std::move(frame.frame));
     counts_.hypotheses_over_limits += r.hypotheses_over_limits;
+    counts_.hypotheses_inside_tracks += r.hypotheses_inside_tracks;
     publish(r, stamp);
     saveTrackNumbers();
     ++counts_.processed;
@@ -197,10 +206,8 @@ void TrackerNodelet::saveTrackNumbers() {
   }
 }
 
-bool TrackerNodelet::acceptStamp(const ::ros::Time& stamp) {
-  switch (stamps_.check(stamp.toSec())) {
-    case StampVerdict::kProcess:
-      return true;
+bool TrackerNodelet::inOrder(StampVerdict verdict) {
+  switch (verdict) {
     case StampVerdict::kDuplicate:
       ++counts_.duplicates;
       warn("depth image with the stamp of the last one dropped");
@@ -209,14 +216,9 @@ bool TrackerNodelet::acceptStamp(const ::ros::Time& stamp) {
       ++counts_.out_of_order;
       warn("depth image older than the last one dropped (out of order)");
       return false;
-    case StampVerdict::kJumpBack:
-      ++counts_.time_jumps;
-      NODELET_WARN("tracker: time went back (bag loop or clock reset): tracks reset");
-      pipeline_->reset();
-      assembler_->clear();
+    default:
       return true;
   }
-  return false;
 }
 
 void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) {
@@ -363,7 +365,8 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
                                {"out_of_order", c.out_of_order},
                                {"time_jumps", c.time_jumps},
                                {"input_warnings", c.warnings},
-                               {"hypotheses_over_limits", c.hypotheses_over_limits}})
+                               {"hypotheses_over_limits", c.hypotheses_over_limits},
+                               {"hypotheses_inside_tracks", c.hypotheses_inside_tracks}})
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));

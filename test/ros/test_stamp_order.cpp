@@ -21,5 +21,16 @@ TEST(StampOrder, ProcessesInOrderDropsDuplicatesAndJitterResetsOnceOnAJumpBack) 
   EXPECT_EQ(order.check(1.0), StampVerdict::kProcess);
 }
 
+TEST(StampOrder, AFrameThatIsNotTakenDoesNotMoveTheTimeLine) {
+  StampOrder order(0.5);
+  EXPECT_EQ(order.check(10.0), StampVerdict::kProcess);
+  // One frame stamped far in the future that turns out bad (no TF for it): peeked, not taken.
+  EXPECT_EQ(order.peek(500.0), StampVerdict::kProcess);
+  EXPECT_EQ(order.check(10.033), StampVerdict::kProcess) << "no jump back after the bad frame";
+  EXPECT_EQ(order.peek(2.0), StampVerdict::kJumpBack);
+  order.take(2.0);
+  EXPECT_EQ(order.peek(2.033), StampVerdict::kProcess);
+}
+
 }  // namespace
 }  // namespace sgt::ros

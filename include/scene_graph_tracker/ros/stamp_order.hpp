@@ -15,12 +15,20 @@ class StampOrder {
   explicit StampOrder(double max_jitter_s = 1.0) : max_jitter_s_(max_jitter_s) {}
   // The verdict for `stamp` (seconds); kProcess and kJumpBack make it the last stamp.
   StampVerdict check(double stamp) {
-    if (std::isnan(last_) || stamp > last_) return last_ = stamp, StampVerdict::kProcess;
+    const StampVerdict v = peek(stamp);
+    if (v == StampVerdict::kProcess || v == StampVerdict::kJumpBack) last_ = stamp;
+    return v;
+  }
+  // The verdict without taking the stamp: a caller that may still reject the frame (no TF for
+  // it) takes it with take() once the frame is good, so that one bad frame stamped far in the
+  // future cannot make every later frame look like a jump back.
+  StampVerdict peek(double stamp) const {
+    if (std::isnan(last_) || stamp > last_) return StampVerdict::kProcess;
     if (stamp == last_) return StampVerdict::kDuplicate;
     if (last_ - stamp <= max_jitter_s_) return StampVerdict::kJitter;
-    last_ = stamp;
     return StampVerdict::kJumpBack;
   }
+  void take(double stamp) { last_ = stamp; }
   void reset() { last_ = NAN; }
 
  private:

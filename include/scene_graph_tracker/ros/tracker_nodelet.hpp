@@ -72,8 +72,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   static sensor_msgs::PointCloud2 unassignedPoints(const PipelineResult& r,
                                                    const std_msgs::Header& header);
   void publishDiagnostics(const std::string& problem, const PipelineResult* r);
-  bool acceptStamp(const ::ros::Time& stamp);  // stamps_: in order, or reset once on a jump back
-  void saveTrackNumbers();                     // track_ids_: when a class got a new track
+  bool inOrder(StampVerdict verdict);  // false (counted, warned): a duplicate or out of order
+  void saveTrackNumbers();             // track_ids_: when a class got a new track
   void waitForTransforms(const sensor_msgs::Image& depth);
   void warn(const std::string& text);
   void onReconfigure(scene_graph_tracker::TrackerConfig& config, std::uint32_t level);
@@ -87,7 +87,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   // What came in and what became of it, in /diagnostics.
   struct Counts {
     std::size_t frames_in = 0, processed = 0, skipped = 0, failed = 0, duplicates = 0,
-                out_of_order = 0, time_jumps = 0, warnings = 0, hypotheses_over_limits = 0;
+                out_of_order = 0, time_jumps = 0, warnings = 0, hypotheses_over_limits = 0,
+                hypotheses_inside_tracks = 0;
   } counts_;
   std::uint64_t published_ = 0;
   TrackIdStore track_ids_{""};

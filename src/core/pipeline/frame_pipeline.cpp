@@ -58,7 +58,7 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   clock.run(out.times.associate_ms, [&] {
     predict(frame.stamp);
     const auto accepted = acceptedHypotheses(frame.hypotheses, out.hypotheses_over_limits);
-    associate(accepted, out.T_map_base, frame.stamp, out.hypotheses_over_limits);
+    associate(accepted, frame.stamp, out);
     scene_.commit();
   });
   // 3. Refine every track from its prediction, then advance the track life cycles.

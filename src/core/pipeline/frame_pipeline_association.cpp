@@ -54,19 +54,22 @@ Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis
   return cost;
 }
 
-void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses,
-                              const Eigen::Isometry3d& T_map_base, double stamp,
-                              std::size_t& over_limit) {
+void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, double stamp,
+                              PipelineResult& out) {
   const double forbidden = std::numeric_limits<double>::max();
   std::vector<Eigen::Isometry3d> in_map(hypotheses.size());
   for (std::size_t h = 0; h < hypotheses.size(); ++h)
-    in_map[h] = T_map_base * hypotheses[h].T_base_object;
+    in_map[h] = out.T_map_base * hypotheses[h].T_base_object;
   const std::vector<int> match =
       assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     if (match[h] < 0) {  // a new object, or a false detection: a tentative track either way
+      if (insideTrackOfClass(hypotheses[h].class_name, in_map[h])) {
+        ++out.hypotheses_inside_tracks;  // a duplicate of a detection a track took
+        continue;
+      }
       if (!roomForTrack(hypotheses[h].class_name)) {
-        ++over_limit;
+        ++out.hypotheses_over_limits;
         continue;
       }
       addTrack(hypotheses[h].class_name, in_map[h], stamp);
@@ -102,6 +105,15 @@ void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {
       OrientationDispute::next(t.life.orientation_disputes, angle, lifecycleOptions());
   if (OrientationDispute::contested(t.life.orientation_disputes, lifecycleOptions()))
     t.contested_by = T_detected;
+}
+
+bool FramePipeline::insideTrackOfClass(const std::string& class_name,
+                                       const Eigen::Isometry3d& T_map_object) const {
+  const double radius = 0.5 * catalog_->get(class_name).box.sizes().minCoeff();
+  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
+    return t.out.class_name == class_name &&
+           (t.out.T_map_object.translation() - T_map_object.translation()).norm() < radius;
+  });
 }
 
 bool FramePipeline::roomForTrack(const std::string& class_name) const {

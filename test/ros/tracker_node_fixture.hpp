@@ -1,0 +1,185 @@
+// The tracker node's rostest fixture: simulated depth of the workbench (five catalog objects and
+// a box the tracker does not know) published with noisy detections to the node that
+// test/ros/tracker.test launches; the node's outputs and warnings collected.
+#pragma once
+
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <scene_graph_tracker/PoseHypothesisArray.h>
+#include <scene_graph_tracker/TrackedObjectArray.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
+#include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/simulation/building.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
+
+namespace sgt::test {
+
+inline Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translate(t);
+  T.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  return T;
+}
+
+class TrackerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const Building building = makeBuilding();  // the node's static_map (written by write_map)
+    catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+    world_.setStaticMap(std::make_shared<TriangleMesh>(building.mesh), 1);
+    const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();
+    const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt",
+                                              "relay"};
+    const double xs[5] = {-0.45, -0.2, 0.02, 0.3, 0.55}, yaws[5] = {0.3, -0.5, 0.1, 0.2, -0.2};
+    for (std::size_t k = 0; k < classes.size(); ++k) {
+      const ObjectClass& c = catalog_.get(classes[k]);
+      const double half_z = 0.5 * c.box.sizes().z() - c.box.center().z();
+      truth_.push_back(
+          {classes[k], pose(top + Eigen::Vector3d(xs[k], 0.0, half_z + 0.001), yaws[k])});
+      world_.addInstance(10 + static_cast<NodeId>(k), world_.addMesh(c.mesh), truth_.back().second);
+    }
+    world_.addInstance(
+        30, world_.addMesh(std::make_shared<TriangleMesh>(makeBox({0.12f, 0.1f, 0.15f}))),
+        pose(top + Eigen::Vector3d(-0.1, -0.25, 0.075), 0.0));
+    world_.commit();
+    T_map_base_ = pose(Eigen::Vector3d(top.x(), top.y() + 1.1, 0.0), -M_PI / 2);
+    T_base_camera_ =
+        T_map_base_.inverse() * opticalLookAt(T_map_base_ * Eigen::Vector3d(0.1, 0, 1.25), top);
+    cam_ = PinholeModel::xtion();
+    rays_ = std::make_shared<SensorRays>(makeRays(cam_));
+    depth_ = depthImage(simulate(world_, *rays_, T_map_base_ * T_base_camera_), *rays_);
+
+    depth_pub_ = nh_.advertise<sensor_msgs::Image>("/test/depth", 5);
+    info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("/test/camera_info", 5);
+    hyp_pub_ = nh_.advertise<scene_graph_tracker::PoseHypothesisArray>("/test/pose_hypotheses", 5);
+    cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
+    objects_sub_ = nh_.subscribe("/tracker/tracked_objects", 5, &TrackerNodeTest::onObjects, this);
+    markers_sub_ = nh_.subscribe("/tracker/markers", 5, &TrackerNodeTest::onMarkers, this);
+    points_sub_ = nh_.subscribe("/tracker/unassigned_points", 5, &TrackerNodeTest::onPoints, this);
+    rosout_sub_ = nh_.subscribe("/rosout", 100, &TrackerNodeTest::onLog, this);
+    geometry_msgs::TransformStamped cam;
+    cam.header.stamp = ::ros::Time::now(), cam.header.frame_id = "base_link",
+    cam.child_frame_id = "camera";
+    cam.transform = ros::toTransform(T_base_camera_);
+    static_tf_.sendTransform(cam);
+    // Wait for the node (it builds the building's BVH first).
+    for (int i = 0;
+         i < 600 && (depth_pub_.getNumSubscribers() == 0 || objects_sub_.getNumPublishers() == 0);
+         ++i)
+      ::ros::Duration(0.1).sleep();
+    ASSERT_GT(depth_pub_.getNumSubscribers(), 0u) << "the tracker node did not come up";
+  }
+
+  // One frame: odom -> base at `stamp` (odom = map here), depth image and camera_info, and
+  // optionally the detections.
+  void sendFrame(bool hypotheses, const std::vector<float>& depth,
+                 const std::string& encoding = "32FC1", int info_width = 640,
+                 const std::string& frame = "camera", ::ros::Time stamp = ::ros::Time()) {
+    if (stamp.isZero()) stamp = ::ros::Time::now();
+    geometry_msgs::TransformStamped odom;
+    odom.header.stamp = stamp, odom.header.frame_id = "odom", odom.child_frame_id = "base_link";
+    odom.transform = ros::toTransform(T_map_base_);
+    tf_.sendTransform(odom);
+    ::ros::Duration(0.02).sleep();  // let the transform arrive before the image
+    sensor_msgs::Image img = ros::depthToImage(depth, cam_.width, cam_.height);
+    img.encoding = encoding;
+    img.header.stamp = stamp, img.header.frame_id = frame;
+    sensor_msgs::CameraInfo info = ros::toCameraInfo(cam_);
+    info.width = info_width;
+    info.header = img.header;
+    if (hypotheses) {
+      scene_graph_tracker::PoseHypothesisArray h;
+      h.header = img.header;
+      for (const auto& [cls, T] : truth_) {
+        Eigen::Isometry3d noisy = T;
+        noisy.translation() += 0.01 * Eigen::Vector3d(g_(rng_), g_(rng_), g_(rng_));
+        scene_graph_tracker::PoseHypothesis p;
+        p.class_name = cls, p.score = 0.9f;
+        p.pose = ros::toPose((T_map_base_ * T_base_camera_).inverse() * noisy);
+        h.hypotheses.push_back(p);
+      }
+      hyp_pub_.publish(h);
+    }
+    ::ros::Duration(0.01).sleep();
+    depth_pub_.publish(img);
+    info_pub_.publish(info);
+    for (int i = 0; i < 10; ++i) ::ros::Duration(0.01).sleep(), ::ros::spinOnce();
+  }
+
+  void run(int frames, bool hypotheses, double rate_hz = 5.0) {
+    for (int f = 0; f < frames; ++f) {
+      std::vector<float> noisy = depth_;
+      sendFrame(hypotheses, noisy);
+      ::ros::Duration(1.0 / rate_hz).sleep();
+      ::ros::spinOnce();
+    }
+    for (int i = 0; i < 50; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
+  }
+
+  // Largest translation error of the tracked objects against the truth, matching by class.
+  double worstError(std::size_t& matched) const {
+    double worst = 0.0;
+    matched = 0;
+    if (!objects_) return 1e9;
+    for (const auto& [cls, T] : truth_)
+      for (const auto& o : objects_->objects)
+        if (o.class_name == cls) {
+          ++matched;
+          worst =
+              std::max(worst, (ros::toEigen(o.pose.pose).translation() - T.translation()).norm());
+        }
+    return worst;
+  }
+
+  bool warned(const std::string& text) const {
+    for (const auto& w : warnings_)
+      if (w.find(text) != std::string::npos) return true;
+    return false;
+  }
+
+  void onObjects(const scene_graph_tracker::TrackedObjectArrayConstPtr& m) {
+    objects_ = m, ++objects_count_;
+  }
+  void onMarkers(const visualization_msgs::MarkerArrayConstPtr& m) { markers_ = m; }
+  void onPoints(const sensor_msgs::PointCloud2ConstPtr& m) {
+    unassigned_ = std::max<std::size_t>(unassigned_, m->width * m->height);
+  }
+  void onLog(const rosgraph_msgs::LogConstPtr& m) {
+    if (m->level >= rosgraph_msgs::Log::WARN) warnings_.push_back(m->msg);
+  }
+
+  ::ros::NodeHandle nh_;
+  RaycastScene world_;
+  ObjectCatalog catalog_;
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> truth_;
+  Eigen::Isometry3d T_map_base_, T_base_camera_;
+  PinholeModel cam_;
+  std::shared_ptr<SensorRays> rays_;
+  std::vector<float> depth_;
+  std::mt19937 rng_{3};
+  std::normal_distribution<double> g_;
+  ::ros::Publisher depth_pub_, info_pub_, hyp_pub_, cloud_pub_;
+  ::ros::Subscriber objects_sub_, markers_sub_, points_sub_, rosout_sub_;
+  tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
+  scene_graph_tracker::TrackedObjectArrayConstPtr objects_;
+  visualization_msgs::MarkerArrayConstPtr markers_;
+  std::size_t unassigned_ = 0, objects_count_ = 0;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace sgt::test
