@@ -38,8 +38,38 @@ void checkMessageSize(std::size_t n) {
                           std::to_string(kMaxFrameObjects) + ")");
 }
 
-void checkId(const std::string& id, std::set<std::string>& seen) {
+// Names are stored as they are, as query parameters (never spliced into SQL). They must be text
+// the database can hold and index: UTF-8 without NUL (libpq would cut the name there), and at most
+// kMaxNameBytes (an index entry holds a few kB).
+bool validUtf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const std::size_t n = c < 0x80           ? 1
+                          : (c >> 5) == 0x6  ? 2
+                          : (c >> 4) == 0xE  ? 3
+                          : (c >> 3) == 0x1E ? 4
+                                             : 0;
+    if (n == 0 || i + n > s.size()) return false;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return false;
+    i += n;
+  }
+  return true;
+}
+
+void checkName(const char* what, const std::string& name) {
+  if (name.size() > kMaxNameBytes)
+    throw ConversionError(std::string(what) + " of " + std::to_string(name.size()) +
+                          " bytes (at most " + std::to_string(kMaxNameBytes) + ")");
+  if (name.find('\0') != std::string::npos)
+    throw ConversionError(std::string(what) + " '" + name.c_str() + "...' holds a NUL byte");
+  if (!validUtf8(name)) throw ConversionError(std::string(what) + " is not UTF-8");
+}
+
+void checkObject(const std::string& id, const std::string& class_name, const std::string& parent,
+                 std::set<std::string>& seen) {
   if (id.empty()) throw ConversionError("an object with an empty id");
+  checkName("object id", id), checkName("class name", class_name), checkName("parent id", parent);
   if (!seen.insert(id).second) throw ConversionError("object id '" + id + "' appears twice");
 }
 
@@ -79,7 +109,7 @@ semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, d
   frame.stamp = stamp;
   std::set<std::string> seen;
   for (const auto& n : graph.nodes) {
-    checkId(n.id, seen);
+    checkObject(n.id, n.class_name, n.parent, seen);
     if (auto s = shape(n.class_name)) frame.objects.push_back({n.id, s, n.parent, world.at(n.id)});
   }
   return frame;
@@ -92,7 +122,7 @@ semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArr
   frame.stamp = stamp;
   std::set<std::string> seen;
   for (const auto& o : objects.objects) {
-    checkId(o.id, seen);
+    checkObject(o.id, o.class_name, o.parent, seen);
     const Eigen::Isometry3d T = toEigen(o.pose.pose);
     if (auto s = shape(o.class_name)) frame.objects.push_back({o.id, s, o.parent, T});
   }

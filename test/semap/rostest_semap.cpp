@@ -24,6 +24,7 @@
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
+#include "scene_graph_tracker/semap/bridge.hpp"
 
 namespace sgt {
 namespace {
@@ -260,6 +261,43 @@ TEST_F(SemapBridgeTest, MalformedMessagesAreCountedAndTheNodeKeepsStoring) {
   EXPECT_EQ(c["pushed"], c["written"] + c["dropped"] + c["rejected"] + c["pending"]);
   EXPECT_EQ(c["messages_in"], c["messages_malformed"] + c["throttled"] + c["pushed"]);
   EXPECT_GE(c["written"], 2);
+}
+
+TEST_F(SemapBridgeTest, HostileNamesRoundTripAndOversizedOnesAreRefused) {
+  ASSERT_TRUE(publishStored(400.0, true));
+  const std::vector<std::string> names = {"'; DROP TABLE instance;--", "Robert'); --",
+                                          "\xe3\x83\xac\xe3\x83\xbc_1 \xf0\x9f\xa4\x96",
+                                          std::string(ros::kMaxNameBytes, 'n')};
+  scene_graph_tracker::SceneGraph g;
+  g.header.stamp = ::ros::Time(401.0), g.header.frame_id = "map";
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    scene_graph_tracker::SceneGraphNode n;
+    n.id = names[k], n.class_name = "relay", n.parent = "map";
+    n.T_parent_node = ros::toTransform(at(Eigen::Vector3d(k, 3, 0)));
+    g.nodes.push_back(n);
+  }
+  graph_pub_.publish(g);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    ASSERT_TRUE(waitStored(names[k], 401.0, [&] { graph_pub_.publish(g); })) << names[k];
+    scene_graph_tracker::WhereWas w;
+    w.request.id = names[k], w.request.stamp = ::ros::Time(401.0);
+    ASSERT_TRUE(::ros::service::call("/semap_bridge/where_was", w));
+    EXPECT_NEAR(w.response.pose.position.x, k, 1e-9) << names[k];
+  }
+  scene_graph_tracker::QueryRelations q;  // hostile names in a query: answered, nothing dropped
+  q.request.subject = names[0], q.request.object = "x' OR '1'='1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/query_relations", q));
+  EXPECT_TRUE(q.response.success) << q.response.message;
+  EXPECT_TRUE(q.response.relations.empty());
+  g.nodes.resize(1);
+  g.nodes[0].id = std::string(1 << 20, 'x');  // 1 MB: no index holds it
+  g.header.stamp = ::ros::Time(402.0);
+  graph_pub_.publish(g);
+  ASSERT_TRUE(publishStored(403.0, false)) << "the node should keep storing";
+  std::map<std::string, double> c;
+  for (int i = 0; i < 20 && c["messages_malformed"] < 1; ++i) c = bridgeCounters(nh_);
+  EXPECT_EQ(c["messages_malformed"], 1);
+  EXPECT_EQ(c["rejected"], c["duplicate_frames"]) << "the database refused only republished frames";
 }
 
 }  // namespace

@@ -54,6 +54,21 @@ TEST(BridgeRows, MalformedMessagesAreRefusedWithAReason) {
   EXPECT_THROW(frameFromTrackedObjects(zero, 0, kShapes), ConversionError);
 }
 
+TEST(BridgeRows, NamesAreTextTheDatabaseCanHoldOrTheMessageIsRefused) {
+  scene_graph_tracker::SceneGraph g;
+  g.nodes = {node("'; DROP TABLE instance;--", "klt", "map", {0, 0, 0}),
+             node("Schraubendreher_\xc3\xbc_\xe6\x97\xa5", "klt", "map", {1, 0, 0})};
+  EXPECT_EQ(frameFromSceneGraph(g, 0, kShapes).objects.size(), 2u) << "stored as they are";
+  for (const std::string bad : {std::string(1 << 20, 'x'), std::string("klt\0_1", 5),
+                                std::string("klt_\xff"), std::string("klt_\xe6\x97")}) {
+    scene_graph_tracker::SceneGraph b;
+    b.nodes = {node(bad, "klt", "map", {0, 0, 0})};
+    EXPECT_THROW(frameFromSceneGraph(b, 0, kShapes), ConversionError) << bad.size() << " bytes";
+    b.nodes = {node("klt_1", bad, "map", {0, 0, 0})};
+    EXPECT_THROW(frameFromSceneGraph(b, 0, kShapes), ConversionError);
+  }
+}
+
 TEST(BridgeRows, ALongParentChainNeedsNoDeepRecursion) {
   scene_graph_tracker::SceneGraph g;
   for (int i = 0; i < 5000; ++i)

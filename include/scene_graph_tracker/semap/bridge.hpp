@@ -45,9 +45,10 @@ using ShapeLookup = std::function<std::shared_ptr<const semap::ClassShape>(const
 
 // The rows one message stands for: every object of a known class at its world pose, stamped
 // `stamp`. Throws ConversionError on a malformed message (non-finite or zero-quaternion pose,
-// empty or duplicate id, parent cycle, more than kMaxFrameObjects objects): nothing of it is
-// stored.
+// empty or duplicate id, parent cycle, more than kMaxFrameObjects objects, a name that is not
+// UTF-8, holds a NUL or is longer than kMaxNameBytes): nothing of it is stored.
 constexpr std::size_t kMaxFrameObjects = 10000;
+constexpr std::size_t kMaxNameBytes = 256;
 semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, double stamp,
                                  const ShapeLookup& shape);
 semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
