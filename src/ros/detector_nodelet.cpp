@@ -10,6 +10,7 @@
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/diagnostics.hpp"
 #include "scene_graph_tracker/ros/parameters.hpp"
 
 namespace sgt::ros {
@@ -57,6 +58,27 @@ void DetectorNodelet::onInit() {
                                                                       info_sub_);
   sync_->registerCallback(boost::bind(&DetectorNodelet::onImage, this, boost::placeholders::_1,
                                       boost::placeholders::_2));
+  diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
+  diagnostics_timer_ = nh.createWallTimer(
+      ::ros::WallDuration(1.0), [this](const ::ros::WallTimerEvent&) { publishDiagnostics(); });
+}
+
+// Every image is published (with its hypotheses, perhaps none) or skipped with a reason.
+void DetectorNodelet::publishDiagnostics() {
+  Counts c;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    c = counts_;
+  }
+  const bool ok = c.skipped == 0 && c.depth_unused == 0;
+  diagnostics_pub_.publish(diagnostics(
+      "detector", getName(), ok,
+      c.last_problem.empty() ? "detecting" : "detecting; last problem: " + c.last_problem,
+      {{"images_in", c.images_in},
+       {"images_published", c.published},
+       {"images_skipped", c.skipped},
+       {"depth_unused", c.depth_unused},
+       {"hypotheses", c.hypotheses}}));
 }
 
 void DetectorNodelet::warn(const std::string& text) {
@@ -82,6 +104,7 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
     warn("no depth image on '" + depth_sub_.getTopic() + "' within " + within +
          " of the RGB image: distances from PnP alone (set use_depth false if there is no "
          "registered depth)");
+    ++counts_.depth_unused;
     return nullptr;
   }
   try {  // registered: the depth image has the RGB camera's size and intrinsics
@@ -89,6 +112,7 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
                                                               depthFromImage(*best, camera),
                                                               Eigen::Isometry3d::Identity()));
   } catch (const std::exception& e) {
+    ++counts_.depth_unused;
     warn(std::string("depth image not used (it must be registered to the RGB image): ") + e.what());
     return nullptr;
   }
@@ -97,6 +121,7 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
 void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
                               const sensor_msgs::CameraInfoConstPtr& info) {
   std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.images_in;
   std::vector<detection::ObjectDetection> detections;
   cv::Mat rgb;
   try {
@@ -105,7 +130,9 @@ void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
     const std::unique_ptr<RangeMeasurements> depth = registeredDepth(image->header.stamp, cam);
     detections = detector_->detect(rgb, cam, depth.get());
   } catch (const std::exception& e) {
-    warn(std::string("image skipped: ") + e.what());
+    ++counts_.skipped;
+    counts_.last_problem = std::string("image skipped: ") + e.what();
+    warn(counts_.last_problem);
     return;
   }
   scene_graph_tracker::PoseHypothesisArray out;
@@ -119,6 +146,7 @@ void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
     out.hypotheses.push_back(h);
   }
   hypotheses_pub_.publish(out);
+  ++counts_.published, counts_.hypotheses += out.hypotheses.size();
   if (debug_pub_.getNumSubscribers() > 0) {
     detection::drawDetections(rgb, detections, detector_->pnpOptions().min_visibility);
     debug_pub_.publish(cv_bridge::CvImage(image->header, "rgb8", rgb).toImageMsg());

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/diagnostics.hpp"
 
 namespace sgt::ros {
 namespace {
@@ -217,32 +218,28 @@ BridgeCounts SemapBridge::counts() const {
 // database is unreachable. Identity: pushed = written + dropped + rejected + pending.
 void SemapBridge::publishDiagnostics() {
   const BridgeCounts c = counts();
-  diagnostic_msgs::DiagnosticStatus s;
-  s.name = "scene_graph_tracker: semap_bridge", s.hardware_id = settings_.dbname;
   const bool ok = c.writer.connected && c.malformed == 0 && c.missed == 0 &&
                   c.writer.dropped == 0 && c.writer.rejected == 0;
-  s.level = ok ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
-  s.message = !c.writer.connected ? "database unreachable, frames queued"
-              : ok                ? "storing"
-                                  : "storing; some messages were not stored (see the counts)";
-  const auto kv = [&](const char* k, double v) {
-    diagnostic_msgs::KeyValue x;
-    x.key = k, x.value = std::to_string(v);
-    if (x.value.find('.') != std::string::npos && v == std::floor(v))
-      x.value = std::to_string(static_cast<long long>(v));
-    s.values.push_back(x);
-  };
-  kv("messages_in", c.messages_in), kv("messages_missed", c.missed),
-      kv("messages_malformed", c.malformed), kv("throttled", c.throttled);
-  kv("pushed", c.writer.pushed), kv("written", c.writer.written), kv("dropped", c.writer.dropped),
-      kv("rejected", c.writer.rejected), kv("pending", c.writer.pending);
-  kv("duplicate_frames", c.writer.duplicate_frames), kv("duplicate_rows", c.writer.duplicate_rows);
-  kv("pruned_rows", c.writer.pruned_rows), kv("connects", c.writer.connects),
-      kv("failed_attempts", c.writer.failed_attempts), kv("last_outage_s", c.writer.last_outage_s);
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = ::ros::Time::now();
-  array.status.push_back(s);
-  diagnostics_pub_.publish(array);
+  const std::string message = !c.writer.connected ? "database unreachable, frames queued"
+                              : ok                ? "storing"
+                                   : "storing; some messages were not stored (see the counts)";
+  const semap::WriterStats& w = c.writer;
+  diagnostics_pub_.publish(diagnostics("semap_bridge", settings_.dbname, ok, message,
+                                       {{"messages_in", c.messages_in},
+                                        {"messages_missed", c.missed},
+                                        {"messages_malformed", c.malformed},
+                                        {"throttled", c.throttled},
+                                        {"pushed", w.pushed},
+                                        {"written", w.written},
+                                        {"dropped", w.dropped},
+                                        {"rejected", w.rejected},
+                                        {"pending", w.pending},
+                                        {"duplicate_frames", w.duplicate_frames},
+                                        {"duplicate_rows", w.duplicate_rows},
+                                        {"pruned_rows", w.pruned_rows},
+                                        {"connects", w.connects},
+                                        {"failed_attempts", w.failed_attempts},
+                                        {"last_outage_s", w.last_outage_s}}));
 }
 
 std::shared_ptr<const semap::ClassShape> SemapBridge::shape(const std::string& class_name) {

@@ -3,12 +3,15 @@
 // ray cast from the frame's true object poses, registered to the RGB image. With the depth image
 // the hypotheses must lie within 10 cm of the truth (the shipped model's PnP alone is metres off
 // at this distance); without one the node warns and still publishes its PnP poses.
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 #include <yaml-cpp/yaml.h>
 
+#include <limits>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
@@ -136,6 +139,53 @@ TEST_F(DetectorNodeTest, DistancesComeFromTheRegisteredDepthImage) {
   for (int i = 0; i < 20; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
   EXPECT_TRUE(warned("no depth image on")) << "a missing depth image must be warned about";
   EXPECT_EQ(with->header.frame_id, "camera");
+}
+
+// The latest detector status on /diagnostics, by key.
+std::map<std::string, double> detectorCounters(::ros::NodeHandle& nh) {
+  std::map<std::string, double> out;
+  for (int i = 0; i < 10 && out.empty(); ++i) {
+    const auto msg = ::ros::topic::waitForMessage<diagnostic_msgs::DiagnosticArray>(
+        "/diagnostics", nh, ::ros::Duration(3.0));
+    for (const auto& s : msg ? msg->status : std::vector<diagnostic_msgs::DiagnosticStatus>{})
+      if (s.name == "scene_graph_tracker: detector")
+        for (const auto& kv : s.values) out[kv.key] = std::stod(kv.value);
+  }
+  return out;
+}
+
+// Every bad image kind is skipped with a warning and counted; the node then detects as before.
+TEST_F(DetectorNodeTest, BadImagesAreSkippedCountedAndDetectionGoesOn) {
+  const auto before = sendFrame(true);
+  ASSERT_TRUE(before);
+  const std::size_t good = located(*before);
+  std::vector<std::pair<sensor_msgs::Image, sensor_msgs::CameraInfo>> bad;
+  auto add = [&](auto&& breakIt) {
+    sensor_msgs::Image img = rgb_;
+    sensor_msgs::CameraInfo info = ros::toCameraInfo(cam_);
+    breakIt(img, info);
+    bad.emplace_back(img, info);
+  };
+  add([](auto& img, auto&) { img.encoding = "32FC1"; });
+  add([](auto& img, auto&) { img.data.resize(img.data.size() / 2); });
+  add([](auto& img, auto&) { img.step = 0xFFFFFFF0u; });  // height x step wraps in 32 bits
+  add([](auto& img, auto&) { img.data.clear(), img.width = img.height = img.step = 0; });
+  add([](auto&, auto& info) { info.width = info.height = 60000; });
+  add([](auto&, auto& info) { info.K[0] = std::numeric_limits<double>::quiet_NaN(); });
+  add([](auto&, auto& info) { info.K[4] = 0; });
+  add([](auto&, auto& info) { info.width /= 2; });
+  for (auto& [img, info] : bad) {
+    info.header.stamp = ::ros::Time::now(), info.header.frame_id = "camera";
+    img.header = info.header;
+    rgb_pub_.publish(img), info_pub_.publish(info);
+    ::ros::Duration(0.1).sleep();
+  }
+  const auto after = sendFrame(true);
+  ASSERT_TRUE(after) << "the detector stopped publishing after bad images";
+  EXPECT_EQ(located(*after), good);
+  const auto c = detectorCounters(nh_);
+  EXPECT_GE(c.count("images_skipped") ? c.at("images_skipped") : 0.0, double(bad.size()));
+  EXPECT_TRUE(warned("image skipped"));
 }
 
 }  // namespace

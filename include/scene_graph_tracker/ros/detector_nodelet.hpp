@@ -10,9 +10,11 @@
 // (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
 // nodelet warns. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
 // config/detector.yaml, doc/parameters.md; read at start.
-// Bad input is warned about (throttled) and skipped; the nodelet keeps running.
+// Bad input is warned about (throttled) and skipped; the nodelet keeps running. Counts of images
+// in, published and skipped on /diagnostics ("scene_graph_tracker: detector"), once a second.
 #pragma once
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
@@ -45,6 +47,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp,
                                                      const PinholeModel& camera);
   void warn(const std::string& text);
+  void publishDiagnostics();  // 1 Hz: the counts below
 
   std::unique_ptr<detection::PoseDetector> detector_;
   std::mutex mutex_;
@@ -58,6 +61,12 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::deque<sensor_msgs::ImageConstPtr> depth_images_;
   double depth_max_offset_{};  // params::DetectorParameters (onInit)
   PinholeRayCache depth_rays_;
+  struct Counts {  // under mutex_
+    std::size_t images_in = 0, published = 0, skipped = 0, depth_unused = 0, hypotheses = 0;
+    std::string last_problem;
+  } counts_;
+  ::ros::Publisher diagnostics_pub_;
+  ::ros::WallTimer diagnostics_timer_;
 };
 
 }  // namespace sgt::ros
