@@ -82,6 +82,18 @@ real: build
 	  --odom-frame map --base-frame camera_color_optical_frame --localization external --no-relations --overlay \
 	  $(if $(REAL_DETECTOR),--detector $(REAL_DETECTOR)) $(REAL_EVALUATE_ARGS)
 
+# The demo bag in a loop at SOAK_RATE x through tracker + detector + semap_bridge on a roscore of
+# its own for SOAK_MINUTES; RSS, descriptors, threads, counters and database size every 10 s, in
+# $(BUILD)/soak/soak.json (scripts/soak.py). Fails on a crash, RSS growth >= 5 % after 2 min, or
+# database rows that differ from the rows written.
+SOAK_MINUTES ?= 30
+SOAK_RATE ?= 3
+soak: build
+	@test -f $(DEMO_DIR)/workbench.bag || $(MAKE) demo
+	@set +u; source $(BUILD)/devel/setup.bash; set -u; ROS_PACKAGE_PATH=$(CURDIR):$$ROS_PACKAGE_PATH \
+	  /usr/bin/python3 scripts/soak.py --bag $(DEMO_DIR)/workbench.bag --output $(BUILD)/soak \
+	  --minutes $(SOAK_MINUTES) --rate $(SOAK_RATE)
+
 # Latency image stamp -> tracked objects while replaying the default scenario at real time.
 latency: build
 	@scripts/latency.sh $(DEMO_DIR)/workbench.bag $(BUILD)/latency.json

@@ -235,7 +235,7 @@ void SemapBridge::publishDiagnostics() {
                                         {"rejected", w.rejected},
                                         {"pending", w.pending},
                                         {"duplicate_frames", w.duplicate_frames},
-                                        {"duplicate_rows", w.duplicate_rows},
+                                        {"duplicate_rows", w.duplicate_rows}, {"pose_rows", w.pose_rows},
                                         {"pruned_rows", w.pruned_rows},
                                         {"connects", w.connects},
                                         {"failed_attempts", w.failed_attempts},

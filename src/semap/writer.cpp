@@ -121,6 +121,7 @@ SemapWriter::Outcome SemapWriter::write(const Item& item, std::string& error) {
                         frame.stamp, db_->relationError().c_str());
     std::lock_guard<std::mutex> lock(mutex_);
     stats_.duplicate_rows += r.duplicate ? 0 : r.duplicate_rows;
+    stats_.pose_rows += r.duplicate ? 0 : r.pose_rows;
     // Stored already after a failed attempt: that commit went through before the connection broke
     // (pqxx::in_doubt_error), so the frame is written, once.
     if (!r.duplicate || item.attempted) return Outcome::kWritten;

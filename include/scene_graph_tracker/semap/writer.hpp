@@ -34,6 +34,7 @@ struct WriterStats {
   std::size_t pushed = 0, written = 0, dropped = 0, rejected = 0;
   std::size_t duplicate_frames = 0;  // of rejected: every pose stored already (replayed stamps)
   std::size_t duplicate_rows = 0;    // pose rows of written frames that were stored already
+  std::size_t pose_rows = 0;         // pose history rows written (what the database must hold)
   std::size_t pruned_rows = 0;
   std::size_t pending = 0, max_pending = 0;  // queued frames now / at most
   std::size_t connects = 0, failed_attempts = 0;

@@ -1,0 +1,234 @@
+#!/usr/bin/env python3
+"""make soak: the demo bag in a loop at 3x through tracker + detector + semap_bridge.
+
+Usage: soak.py --tools DIR --bag BAG --output DIR [--minutes 30] [--rate 3] [--period 10]
+
+Starts a SEMAP database (scripts/semap-db.sh, in OUTPUT/db) and a roscore of its own, then
+replay.launch (loop, no rviz, semap). Every PERIOD s it samples each node's RSS, open file
+descriptors and threads (/proc), the nodes' counters on /diagnostics (frames, tracks, frame time,
+the bridge's queue and rows) and the database size. Writes OUTPUT/soak.json:
+  {minutes, samples: [...], rss_growth_after_warmup: {node: fraction}, fds_growth: {node: n},
+   crashes, frames_in, frames_out, dropped_counted, frames_published, dropped_uncounted,
+   db_rows_expected, db_rows_found}
+frames_published counts the depth images the player sent (seen by this script's own subscriber);
+frames_in those that reached the tracker; dropped_counted those it received and dropped with a
+count (duplicates, out of order, skipped, failed); dropped_uncounted = frames_published -
+frames_in, lost in ROS queues before the tracker (the tracker cannot see them). Exit status 1
+when a node crashed, RSS grew by 5 % or more after the warm-up (2 min), or the database rows
+differ from the rows the bridge wrote.
+"""
+import argparse
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+NODES = {  # name in soak.json -> what its command line holds
+    "tracker_manager": "__name:=scene_graph_tracker_manager",
+    "semap_bridge": "semap_bridge_node",
+    "player": "__name:=player",
+}
+WARMUP_S = 120.0
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def pids():
+    """name -> pid of each soaked process that runs now."""
+    found = {}
+    for p in os.listdir("/proc"):
+        if not p.isdigit():
+            continue
+        try:
+            with open("/proc/%s/cmdline" % p, "rb") as f:
+                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        for name, marker in NODES.items():
+            if marker in cmd and "roslaunch" not in cmd:
+                found[name] = int(p)
+    return found
+
+
+def proc_sample(pid):
+    out = {}
+    try:
+        with open("/proc/%d/status" % pid) as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    out["rss_mb"] = int(line.split()[1]) / 1024.0
+                elif line.startswith("Threads:"):
+                    out["threads"] = int(line.split()[1])
+        out["fds"] = len(os.listdir("/proc/%d/fd" % pid))
+    except OSError:
+        return None
+    return out
+
+
+class Listener:
+    """The latest /diagnostics values per status name, and the depth images published."""
+
+    def __init__(self, depth_topic):
+        import rospy
+        from diagnostic_msgs.msg import DiagnosticArray
+        from sensor_msgs.msg import Image
+        rospy.init_node("soak_probe", anonymous=True, disable_signals=True)
+        self.lock = threading.Lock()
+        self.status = {}
+        self.depth_images = 0
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=50)
+        rospy.Subscriber(depth_topic, Image, self.on_depth, queue_size=1000, buff_size=2 ** 27)
+
+    def on_diagnostics(self, msg):
+        with self.lock:
+            for s in msg.status:
+                values = {}
+                for kv in s.values:
+                    try:
+                        values[kv.key] = float(kv.value)
+                    except ValueError:
+                        values[kv.key] = kv.value
+                self.status[s.name] = values
+
+    def on_depth(self, _):
+        with self.lock:
+            self.depth_images += 1
+
+    def snapshot(self):
+        with self.lock:
+            return {k: dict(v) for k, v in self.status.items()}, self.depth_images
+
+
+def db_query(db_dir, port, sql):
+    env = dict(os.environ, PGPASSFILE=os.path.join(db_dir, "bridge.pgpass"))
+    r = subprocess.run(["psql", "-X", "-qtA", "-h", "127.0.0.1", "-p", str(port), "-U",
+                        "semap_bridge", "-d", "semap", "-c", sql], env=env, capture_output=True,
+                       text=True, timeout=60)
+    return r.stdout.strip() if r.returncode == 0 else None
+
+
+def growth(samples, node, key, relative):
+    series = [(s["t"], s["nodes"][node][key]) for s in samples if node in s["nodes"]]
+    after = [v for t, v in series if t >= WARMUP_S]
+    if len(after) < 2:
+        return None
+    return (after[-1] - after[0]) / after[0] if relative else after[-1] - after[0]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bag", required=True)
+    ap.add_argument("--output", required=True)
+    ap.add_argument("--minutes", type=float, default=30.0)
+    ap.add_argument("--rate", type=float, default=3.0)
+    ap.add_argument("--period", type=float, default=10.0)
+    ap.add_argument("--depth-topic", default="/camera/depth_registered/image_raw")
+    a = ap.parse_args()
+    os.makedirs(a.output, exist_ok=True)
+    db_dir, db_port, ros_port = os.path.join(os.path.abspath(a.output), "db"), free_port(), free_port()
+    env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % ros_port)
+    os.environ.update(env)
+    subprocess.run(["rm", "-rf", db_dir])
+    subprocess.run([os.path.join(ROOT, "scripts/semap-db.sh"), "start", db_dir, str(db_port)],
+                   check=True, stdout=subprocess.DEVNULL)
+    log = open(os.path.join(a.output, "launch.log"), "w")
+    launch = subprocess.Popen(
+        ["roslaunch", "-p", str(ros_port), "scene_graph_tracker", "replay.launch",
+         "bag:=" + os.path.abspath(a.bag), "rviz:=false", "loop:=true", "semap:=true",
+         "rate:=%g" % a.rate, "semap_db_dir:=" + db_dir, "semap_db_port:=%d" % db_port],
+        stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
+    samples, crashes, seen = [], 0, {}
+    try:
+        for _ in range(100):
+            if launch.poll() is not None:
+                raise SystemExit("soak: roslaunch ended (see %s)" % log.name)
+            if subprocess.run(["rosparam", "get", "/use_sim_time"], capture_output=True,
+                              env=env).returncode == 0:
+                break
+            time.sleep(0.2)
+        listener = Listener(a.depth_topic)
+        start = time.time()
+        while time.time() - start < 60.0 * a.minutes:
+            time.sleep(a.period)
+            if launch.poll() is not None:
+                crashes += 1
+                print("soak: roslaunch ended (see %s)" % log.name, flush=True)
+                break
+            t = time.time() - start
+            now = pids()
+            for name, pid in now.items():
+                if name in seen and seen[name] != pid:
+                    crashes += 1  # restarted under another pid
+                seen[name] = pid
+            crashes += sum(1 for name in seen if name not in now)
+            status, published = listener.snapshot()
+            tracker = status.get("scene_graph_tracker: tracker", {})
+            bridge = status.get("scene_graph_tracker: semap_bridge", {})
+            sample = {"t": round(t, 1),
+                      "nodes": {n: s for n, s in ((n, proc_sample(p)) for n, p in now.items()) if s},
+                      "tracker": tracker, "semap_bridge": bridge,
+                      "detector": status.get("scene_graph_tracker: detector", {}),
+                      "frames_published": published,
+                      "db_bytes": db_query(db_dir, db_port, "SELECT pg_database_size('semap')")}
+            samples.append(sample)
+            print("[soak %5.1f/%g min] frames %d published, %d processed; %s objects; frame %s ms; "
+                  "bridge pending %s; RSS %s" % (
+                      t / 60, a.minutes, published, tracker.get("frames_processed", 0),
+                      tracker.get("objects", "-"), tracker.get("frame_ms", "-"),
+                      bridge.get("pending", "-"),
+                      ", ".join("%s %.0f MB" % (n, s["rss_mb"]) for n, s in sample["nodes"].items())),
+                  flush=True)
+        time.sleep(2.0 * a.period)  # let the bridge write its backlog
+        status, published = listener.snapshot()
+        rows = db_query(db_dir, db_port, "SELECT count(*) FROM pose_history")
+    finally:
+        os.killpg(launch.pid, signal.SIGINT)
+        try:
+            launch.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(launch.pid, signal.SIGKILL)
+    tracker = status.get("scene_graph_tracker: tracker", {})
+    bridge = status.get("scene_graph_tracker: semap_bridge", {})
+    subprocess.run([os.path.join(ROOT, "scripts/semap-db.sh"), "stop", db_dir, str(db_port)],
+                   stdout=subprocess.DEVNULL)
+    frames_in = int(tracker.get("frames_in", 0))
+    dropped = sum(int(tracker.get(k, 0)) for k in (
+        "frames_skipped", "frames_failed", "duplicate_stamps", "out_of_order"))
+    report = {
+        "minutes": a.minutes, "rate": a.rate, "samples": samples,
+        "rss_growth_after_warmup": {n: growth(samples, n, "rss_mb", True) for n in NODES},
+        "fds_growth": {n: growth(samples, n, "fds", False) for n in NODES},
+        "crashes": crashes,
+        "frames_published": published, "frames_in": frames_in,
+        "frames_out": int(tracker.get("frames_processed", 0)), "dropped_counted": dropped,
+        "dropped_uncounted": max(0, published - frames_in),
+        "db_rows_expected": int(bridge.get("pose_rows", -1)),
+        "db_rows_found": int(rows) if rows and rows.isdigit() else -1,
+        "bridge": bridge,
+    }
+    with open(os.path.join(a.output, "soak.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    ok = (crashes == 0 and report["db_rows_expected"] == report["db_rows_found"] and
+          all(g is not None and g < 0.05 for g in report["rss_growth_after_warmup"].values()
+              if a.minutes * 60 > WARMUP_S + 2 * a.period))
+    print("soak: %d crashes; frames %d published, %d in, %d out, %d dropped (counted), %d lost "
+          "before the tracker; database rows %d of %d written; RSS growth after warm-up %s -> %s" % (
+              crashes, published, frames_in, report["frames_out"], dropped,
+              report["dropped_uncounted"], report["db_rows_found"], report["db_rows_expected"],
+              {n: None if g is None else round(g, 4)
+               for n, g in report["rss_growth_after_warmup"].items()},
+              os.path.join(a.output, "soak.json")))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
