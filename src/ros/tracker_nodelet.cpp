@@ -173,7 +173,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
   try {  // a failure costs this frame, never the nodelet manager
     const PipelineResult r = pipeline_->process(std::move(frame.frame));
     counts_.hypotheses_over_limits += r.hypotheses_over_limits;
-    counts_.hypotheses_inside_tracks += r.hypotheses_inside_tracks;
+    counts_.hypotheses_duplicate += r.hypotheses_duplicate;
     publish(r, stamp);
     saveTrackNumbers();
     ++counts_.processed;
@@ -366,7 +366,7 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
                                {"time_jumps", c.time_jumps},
                                {"input_warnings", c.warnings},
                                {"hypotheses_over_limits", c.hypotheses_over_limits},
-                               {"hypotheses_inside_tracks", c.hypotheses_inside_tracks}})
+                               {"hypotheses_duplicate", c.hypotheses_duplicate}})
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));

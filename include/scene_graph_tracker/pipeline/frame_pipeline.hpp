@@ -79,9 +79,9 @@ struct PipelineResult {
   std::vector<std::string> dropped;    // ids removed this frame
   // Hypotheses left out by max_hypotheses_per_frame, max_tracks or max_tracks_per_class.
   std::size_t hypotheses_over_limits = 0;
-  // Hypotheses no track took that lie inside a track of their class (two objects cannot share a
-  // place): duplicate detections, which start no track.
-  std::size_t hypotheses_inside_tracks = 0;
+  // Hypotheses no track took that overlap another of their class this frame, one that a track took
+  // or that started a track (two objects cannot share a place): duplicates, which start no track.
+  std::size_t hypotheses_duplicate = 0;
   std::vector<Presegmentation> presegmentation;  // per measurement set (empty when disabled)
   std::vector<RangeMeasurements> measurements;   // in the map frame, as used
   StageTimes times;
@@ -142,10 +142,12 @@ class FramePipeline {
   void predict(double stamp);
   // out: T_map_base in, hypothesis counts out.
   void associate(const std::vector<PoseHypothesis>& hypotheses, double stamp, PipelineResult& out);
-  // Whether a track of the class has its centre within half the class's smallest box side of
-  // `T_map_object`'s: the two would overlap, so they cannot be two objects.
-  bool insideTrackOfClass(const std::string& class_name,
-                          const Eigen::Isometry3d& T_map_object) const;
+  // Whether hypothesis h lies within half its class's smallest box side of one in `placed` (this
+  // frame's detections that a track took or started) of its class: the two would overlap, so they
+  // are one object detected twice.
+  bool overlapsPlaced(const std::vector<PoseHypothesis>& hypotheses,
+                      const std::vector<Eigen::Isometry3d>& in_map,
+                      const std::vector<std::size_t>& placed, std::size_t h) const;
   void refineTracks(const std::vector<RangeMeasurements>& sets, double stamp,
                     std::vector<std::string>& dropped);
   void updateRelations(PipelineResult& out, const std::vector<RangeMeasurements>& sets);

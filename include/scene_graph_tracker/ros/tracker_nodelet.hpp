@@ -88,7 +88,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   struct Counts {
     std::size_t frames_in = 0, processed = 0, skipped = 0, failed = 0, duplicates = 0,
                 out_of_order = 0, time_jumps = 0, warnings = 0, hypotheses_over_limits = 0,
-                hypotheses_inside_tracks = 0;
+                hypotheses_duplicate = 0;
   } counts_;
   std::uint64_t published_ = 0;
   TrackIdStore track_ids_{""};

@@ -62,10 +62,15 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
     in_map[h] = out.T_map_base * hypotheses[h].T_base_object;
   const std::vector<int> match =
       assignMinCost(associationCosts(hypotheses, in_map, forbidden), forbidden);
+  // Where this frame's detections placed an object (matched ones first): a second detection
+  // there is the same object seen twice, not another one.
+  std::vector<std::size_t> placed;
+  for (std::size_t h = 0; h < hypotheses.size(); ++h)
+    if (match[h] >= 0) placed.push_back(h);
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     if (match[h] < 0) {  // a new object, or a false detection: a tentative track either way
-      if (insideTrackOfClass(hypotheses[h].class_name, in_map[h])) {
-        ++out.hypotheses_inside_tracks;  // a duplicate of a detection a track took
+      if (overlapsPlaced(hypotheses, in_map, placed, h)) {
+        ++out.hypotheses_duplicate;  // a duplicate detection
         continue;
       }
       if (!roomForTrack(hypotheses[h].class_name)) {
@@ -74,6 +79,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
       }
       addTrack(hypotheses[h].class_name, in_map[h], stamp);
       tracks_.back().life.detections = 1;
+      placed.push_back(h);
       continue;
     }
     Track& t = tracks_[match[h]];
@@ -107,12 +113,14 @@ void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {
     t.contested_by = T_detected;
 }
 
-bool FramePipeline::insideTrackOfClass(const std::string& class_name,
-                                       const Eigen::Isometry3d& T_map_object) const {
-  const double radius = 0.5 * catalog_->get(class_name).box.sizes().minCoeff();
-  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
-    return t.out.class_name == class_name &&
-           (t.out.T_map_object.translation() - T_map_object.translation()).norm() < radius;
+bool FramePipeline::overlapsPlaced(const std::vector<PoseHypothesis>& hypotheses,
+                                   const std::vector<Eigen::Isometry3d>& in_map,
+                                   const std::vector<std::size_t>& placed, std::size_t h) const {
+  const std::string& name = hypotheses[h].class_name;
+  const double radius = 0.5 * catalog_->get(name).box.sizes().minCoeff();
+  return std::any_of(placed.begin(), placed.end(), [&](std::size_t p) {
+    return hypotheses[p].class_name == name &&
+           (in_map[p].translation() - in_map[h].translation()).norm() < radius;
   });
 }
 
