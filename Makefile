@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo suite real latency model params clean
+.PHONY: deps build test bench demo suite real latency model params fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -136,6 +136,13 @@ model: build
 params: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j$(JOBS) --target print_parameters
 	$(TOOLS)/print_parameters --write $(CURDIR)
+
+# libFuzzer targets (test/fuzz/, cmake/fuzz.cmake) in a clang build of their own ($(BUILD)/fuzz,
+# ASan + UBSan), each run FUZZ_SECONDS on its seeds; findings in $(BUILD)/fuzz/artifacts/<target>/,
+# the summary in $(BUILD)/fuzz/report.json. Fails when a target found anything.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@/usr/bin/python3 scripts/fuzz.py --build $(BUILD)/fuzz --seconds $(FUZZ_SECONDS) --jobs $(JOBS)
 
 clean:
 	rm -rf $(BUILD)

@@ -14,11 +14,15 @@ namespace sgt::ros {
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p) {
   Eigen::Quaterniond q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  if (!(q.norm() > 1e-9)) throw ConversionError("pose with a zero or non-finite quaternion");
+  // Every component finite (an infinite one has an infinite norm, and normalizing by it gave a
+  // NaN rotation); the norm without overflow, so that huge finite components still normalize.
+  const double norm = q.coeffs().allFinite() ? q.coeffs().stableNorm() : 0.0;
+  if (!(norm > 1e-9)) throw ConversionError("pose with a zero or non-finite quaternion");
   if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z))
     throw ConversionError("pose with a non-finite position");
+  q.coeffs() /= norm;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = q.normalized().toRotationMatrix();
+  T.linear() = q.toRotationMatrix();
   T.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
   return T;
 }
@@ -240,6 +244,16 @@ cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
       img.encoding != enc::BGRA8 && img.encoding != enc::MONO8)
     throw ConversionError("colour image encoding '" + img.encoding +
                           "' is not supported (use rgb8, bgr8, rgba8, bgra8 or mono8)");
+  // Checked here in 64 bits: cv_bridge compares height x step in 32 bits, which wraps around
+  // for a large step and lets it read rows beyond the data.
+  const std::uint64_t bpp = img.encoding == enc::MONO8                               ? 1
+                            : img.encoding == enc::RGB8 || img.encoding == enc::BGR8 ? 3
+                                                                                     : 4;
+  if (img.step < bpp * img.width || img.data.size() != std::uint64_t(img.step) * img.height)
+    throw ConversionError("colour image data does not fit its size: step " +
+                          std::to_string(img.step) + ", " + std::to_string(img.data.size()) +
+                          " bytes for " + std::to_string(img.width) + "x" +
+                          std::to_string(img.height) + " " + img.encoding);
   try {
     return cv_bridge::toCvCopy(img, enc::RGB8)->image;
   } catch (const cv_bridge::Exception& e) {

@@ -69,6 +69,8 @@ std::vector<std::int64_t> frameTimesNs(double rate, double duration) {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+constexpr double kMaxBuildingSize = 1000.0;  // m, any side of a generated building
+constexpr double kMaxFloorQuads = 2.5e7;     // floor and ceiling alone: target_triangles' limit
 
 // A YAML node with the file it came from and its path in the document, for error messages
 // "file:line: path: message".
@@ -298,8 +300,13 @@ class Parser {
     b.allowKeys({"length_x", "length_y", "wall_height", "wall_thickness", "rooms_x", "rooms_y",
                  "door_width", "door_height", "tile_size", "target_triangles", "seed",
                  "furniture"});
+    // Sizes in metres: beyond a kilometre is a unit mistake (and beyond float range, no mesh).
     auto fl = [&](const char* key, float& v) {
-      if (const auto f = b.optional(key)) v = static_cast<float>(f->positive());
+      if (const auto f = b.optional(key)) {
+        const double x = f->positive();
+        if (x > kMaxBuildingSize) f->fail("expected at most " + fmt(kMaxBuildingSize) + " (m)");
+        v = static_cast<float>(x);
+      }
     };
     fl("length_x", o.length_x), fl("length_y", o.length_y), fl("wall_height", o.wall_height);
     fl("wall_thickness", o.wall_thickness), fl("door_width", o.door_width),
@@ -312,6 +319,17 @@ class Parser {
     if (const auto f = b.optional("seed"))
       o.seed = static_cast<std::uint32_t>(f->integer(0, 4294967295LL));
     if (const auto f = b.optional("furniture")) o.furniture = f->boolean();
+    // Without a triangle target, tile_size sets the tessellation: the floor and the ceiling have
+    // (length_x / tile_size) x (length_y / tile_size) quads each (a tiny tile would not fit in
+    // memory, nor its count in an int).
+    if (o.target_triangles == 0) {
+      const double tile = o.tile_size > 0.0f ? o.tile_size : 0.25;
+      const double quads = std::ceil(o.length_x / tile) * std::ceil(o.length_y / tile);
+      if (quads > kMaxFloorQuads)
+        (b.has("tile_size") ? b.required("tile_size") : b)
+            .fail("tile_size " + fmt(tile) + " m makes " + fmt(quads) + " floor quads (at most " +
+                  fmt(kMaxFloorQuads) + "): a larger tile_size, or target_triangles");
+    }
   }
 
   void parseCatalog(const Field& r) {

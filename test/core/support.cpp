@@ -9,17 +9,23 @@ namespace fs = std::filesystem;
 namespace sgt::test {
 
 std::string tempDir() {
-  static const std::string dir = [] {
-    std::string tmpl = (fs::temp_directory_path() / "sgt_test_XXXXXX").string();
-    const char* made = mkdtemp(tmpl.data());
-    if (!made) throw std::runtime_error("cannot create a temporary directory");
-    std::atexit([] {
+  // Removed by its destructor at exit (an atexit handler registered while the static was being
+  // initialised would run after the static's destructor, reading a freed string).
+  struct Dir {
+    std::string path;
+    Dir() {
+      std::string tmpl = (fs::temp_directory_path() / "sgt_test_XXXXXX").string();
+      const char* made = mkdtemp(tmpl.data());
+      if (!made) throw std::runtime_error("cannot create a temporary directory");
+      path = made;
+    }
+    ~Dir() {
       std::error_code ec;
-      fs::remove_all(tempDir(), ec);
-    });
-    return std::string(made);
-  }();
-  return dir;
+      fs::remove_all(path, ec);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
 }
 
 std::string writeFile(const std::string& name, const std::string& text) {

@@ -179,6 +179,15 @@ TEST(MeshValidation, OutOfRangeFaceInFile) {
   expectError([&] { loadMesh(path); }, {path});
 }
 
+// make fuzz (mesh): assimp's triangulation asserted (abort) on an OFF file with fewer faces than
+// its header says; assimp's validation refuses it first now.
+TEST(MeshValidation, FewerFacesThanTheHeaderSays) {
+  const auto path = writeFile("short.off",
+                              "OFF\n4 4 6\n0 0 0\n0.1 0 0\n0 0.1 0\n0 0 0.1\n"
+                              "3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  expectError([&] { loadMesh(path); }, {path});
+}
+
 TEST(MeshValidation, UnitScale) {
   // A 180 mm part stored in millimetres is 180 m large: rejected with a hint, loads with scale.
   std::string obj = "v 0 0 0\nv 180 0 0\nv 0 87 0\nv 0 0 42\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";

@@ -67,6 +67,28 @@ TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
   EXPECT_THROW(loadObjectCatalog(test::writeFile("broken.yaml", "objects: [\n")), CatalogError);
 }
 
+// make fuzz (config): YAML type errors and unresolvable paths escaped as YAML::Exception or
+// MeshError; every problem is a CatalogError naming the file and the class.
+TEST(ObjectCatalog, AnythingWrongIsACatalogErrorNamingTheClass) {
+  for (const char* text :
+       {"objects:\n  relay:\n    mesh: [a.stl, b.stl]\n",
+        "objects:\n  relay:\n    mesh: package://no_such_package/relay.stl\n",
+        "objects:\n  relay: 5\n", "objects:\n  relay:\n    mesh: relay.stl\n    scale: [1]\n"}) {
+    const std::string path = test::writeFile("odd_catalog.yaml", text);
+    try {
+      loadObjectCatalog(path);
+      FAIL() << "no error for " << text;
+    } catch (const CatalogError& e) {
+      EXPECT_NE(std::string(e.what()).find("class 'relay'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(loadObjectCatalog(test::writeFile("list.yaml", "- objects\n- relay\n")),
+               CatalogError);
+  EXPECT_THROW(loadObjectCatalog(test::writeFile("dir.yaml", "mesh_dir: [1]\nobjects: {}\n")),
+               CatalogError);
+}
+
 TEST(ObjectCatalog, PointsAtThePaperMeshes) {
   SGT_REQUIRE_PBR_OBJECTS(dir);
   const ObjectCatalog catalog = loadObjectCatalog(kCatalog, dir + "/meshes");

@@ -3,6 +3,8 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
 
@@ -18,6 +20,32 @@ TEST(Conversions, PoseRoundTrip) {
   geometry_msgs::Pose zero;
   zero.orientation.w = 0;
   EXPECT_THROW(toEigen(zero), ConversionError);
+}
+
+// make fuzz (semap_bridge): an infinite component has an infinite norm and gave a NaN rotation.
+TEST(Conversions, AQuaternionWithAnInfiniteComponentIsRejectedAHugeOneNormalized) {
+  geometry_msgs::Pose p;
+  p.orientation.w = 1.0, p.orientation.x = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(toEigen(p), ConversionError);
+  p.orientation.w = 1e300, p.orientation.x = 1e300;  // its squared norm overflows
+  const Eigen::Isometry3d T = toEigen(p);
+  EXPECT_TRUE(T.matrix().allFinite());
+  EXPECT_TRUE(T.linear().isApprox(
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix(), 1e-12));
+}
+
+// make fuzz (images): cv_bridge checks height x step in 32 bits; 16384 rows of step 2^18 + 1
+// wrap around to 16384 bytes, which it then read rows beyond.
+TEST(Conversions, AColourImageWhoseSizeWrapsIn32BitsIsRejected) {
+  PinholeModel cam;
+  cam.width = 4, cam.height = 16384;
+  sensor_msgs::Image img;
+  img.width = 4, img.height = 16384, img.encoding = sensor_msgs::image_encodings::RGB8;
+  img.step = (1u << 18) + 1;
+  img.data.resize(16384);
+  EXPECT_THROW(rgbFromImage(img, cam), ConversionError);
+  img.step = 12, img.data.resize(12 * 16384);
+  EXPECT_EQ(rgbFromImage(img, cam).rows, 16384);
 }
 
 TEST(Conversions, CameraInfoRoundTripAndBadInfo) {

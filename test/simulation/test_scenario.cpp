@@ -309,6 +309,12 @@ TEST(Scenario, BrokenFilesNameFileLineAndField) {
        "relations[1].to: expected a time after from (0.5)"},
       {"syntax.yaml", "    radius: 0.25", "    radius: [0.25", "radius: [0.25",
        "YAML syntax error"},
+      // make fuzz (config): a tiny tile overflowed the quad count (and memory), a huge size left
+      // float range (a map of infinite vertices).
+      {"tiny_tile.yaml", "tile_size: 0.5", "tile_size: 0.00001", "tile_size: 0.00001",
+       "world.building.tile_size: tile_size 1e-05 m makes "},
+      {"huge_building.yaml", "length_x: 10", "length_x: 1e39", "length_x: 1e39",
+       "world.building.length_x: expected at most 1000 (m)"},
   };
   for (const Broken& c : cases) {
     const std::string text = replaced(kValid, c.from, c.to);

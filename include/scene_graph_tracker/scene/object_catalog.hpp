@@ -65,6 +65,8 @@ class ObjectCatalog {
 // `mesh_dir_override`, when not empty, replaces mesh_dir and makes every mesh be looked up by
 // its file name in that directory or its sub-directory named after the class (so a catalog can
 // point at another set of meshes, e.g. ../shared/data/pbr_objects/meshes).
+// Throws CatalogError naming the file (and the class) for anything it cannot use: YAML syntax, a
+// value of the wrong type, a path that does not resolve, a mesh that does not load.
 ObjectCatalog loadObjectCatalog(const std::string& yaml_path,
                                 const std::string& mesh_dir_override = "");
 

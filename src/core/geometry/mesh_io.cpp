@@ -99,7 +99,10 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
   // Keep COLLADA vertices as authored (URDF meshes are Z-up; assimp would rotate them to Y-up).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // No JoinIdenticalVertices/FindDegenerates: we validate what the file really holds.
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType);
+  // ValidateDataStructure runs first: a malformed import (e.g. an OFF file with fewer faces than
+  // its header says) is refused here instead of tripping an assertion in Triangulate.
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode)
     fail(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
   TriangleMesh mesh;

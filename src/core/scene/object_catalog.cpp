@@ -107,54 +107,70 @@ std::string findInOverride(const fs::path& dir, const std::string& cls,
 
 }  // namespace
 
+namespace {
+
+ObjectClass loadClass(const std::string& cls, const YAML::Node& o, const std::string& ctx,
+                      const std::string& mesh_dir, const std::string& mesh_dir_override) {
+  if (!o.IsMap()) throw CatalogError(ctx + ": expected a map {mesh: ...}" + where(o));
+  if (!o["mesh"]) throw CatalogError(ctx + ": missing 'mesh'" + where(o));
+  const std::string configured = o["mesh"].as<std::string>();
+  ObjectClass obj;
+  obj.name = cls;
+  obj.symmetry = parseSymmetry(o, ctx);
+  if (mesh_dir_override.empty()) {
+    obj.mesh_path = resolveResourcePath(configured, mesh_dir);
+  } else {
+    obj.mesh_path = findInOverride(mesh_dir_override, cls, configured);
+    const fs::path info = fs::path(mesh_dir_override) / cls / "model_info.json";
+    if (fs::exists(info))
+      obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
+  }
+  MeshLoadOptions opts;
+  opts.scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
+  opts.max_extent_m = 5.0f;  // a tracked object larger than 5 m is a unit mistake
+  auto mesh = std::make_shared<TriangleMesh>(loadMesh(obj.mesh_path, opts));
+  obj.box = mesh->boundingBox();
+  obj.diameter = mesh->diameter();
+  obj.mesh = std::move(mesh);
+  return obj;
+}
+
+}  // namespace
+
 ObjectCatalog loadObjectCatalog(const std::string& yaml_path,
                                 const std::string& mesh_dir_override) {
+  const std::string file = "object catalog '" + yaml_path + "'";
   YAML::Node root;
   try {
     root = YAML::LoadFile(yaml_path);
   } catch (const YAML::Exception& e) {
-    throw CatalogError("object catalog '" + yaml_path + "': " + e.what());
+    throw CatalogError(file + ": " + e.what());
   }
   const fs::path yaml_dir = fs::path(yaml_path).parent_path();
-  std::string mesh_dir = yaml_dir.string();
-  if (root["mesh_dir"])
-    mesh_dir = resolveResourcePath(root["mesh_dir"].as<std::string>(), yaml_dir.string());
-  const auto objects = root["objects"];
-  if (!objects || !objects.IsMap())
-    throw CatalogError("object catalog '" + yaml_path +
-                       "': needs a map 'objects: {class: {mesh: ...}}'");
-  ObjectCatalog catalog;
-  for (const auto& kv : objects) {
-    const std::string cls = kv.first.as<std::string>();
-    const YAML::Node& o = kv.second;
-    const std::string ctx = "object catalog '" + yaml_path + "', class '" + cls + "'";
-    if (!o["mesh"]) throw CatalogError(ctx + ": missing 'mesh'" + where(o));
-    const std::string configured = o["mesh"].as<std::string>();
-    ObjectClass obj;
-    obj.name = cls;
-    obj.symmetry = parseSymmetry(o, ctx);
-    if (mesh_dir_override.empty()) {
-      obj.mesh_path = resolveResourcePath(configured, mesh_dir);
-    } else {
-      obj.mesh_path = findInOverride(mesh_dir_override, cls, configured);
-      const fs::path info = fs::path(mesh_dir_override) / cls / "model_info.json";
-      if (fs::exists(info))
-        obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
+  // Whatever the file holds, what goes wrong is a CatalogError naming the file (and the class):
+  // a value of the wrong YAML type, a path that does not resolve, a mesh that does not load.
+  std::string ctx = file;
+  try {
+    if (!root.IsMap() || !root["objects"] || !root["objects"].IsMap())
+      throw CatalogError(file + ": needs a map 'objects: {class: {mesh: ...}}'");
+    std::string mesh_dir = yaml_dir.string();
+    if (root["mesh_dir"])
+      mesh_dir = resolveResourcePath(root["mesh_dir"].as<std::string>(), yaml_dir.string());
+    ObjectCatalog catalog;
+    for (const auto& kv : root["objects"]) {
+      ctx = file;
+      const std::string cls = kv.first.as<std::string>();
+      ctx = file + ", class '" + cls + "'";
+      catalog.add(loadClass(cls, kv.second, ctx, mesh_dir, mesh_dir_override));
     }
-    MeshLoadOptions opts;
-    opts.scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
-    opts.max_extent_m = 5.0f;  // a tracked object larger than 5 m is a unit mistake
-    try {
-      auto mesh = std::make_shared<TriangleMesh>(loadMesh(obj.mesh_path, opts));
-      obj.box = mesh->boundingBox();
-      obj.diameter = mesh->diameter();
-      obj.mesh = std::move(mesh);
-    } catch (const MeshError& e) {
-      throw CatalogError(ctx + ": " + e.what());
-    }
-    catalog.add(std::move(obj));
+    return catalog;
+  } catch (const YAML::Exception& e) {
+    throw CatalogError(ctx + ": " + e.what());
+  } catch (const MeshError& e) {
+    throw CatalogError(ctx + ": " + e.what());
+  } catch (const fs::filesystem_error& e) {
+    throw CatalogError(ctx + ": " + e.what());
   }
-  return catalog;
 }
 
 }  // namespace sgt
