@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test bench demo suite real latency model params fuzz clean
+.PHONY: deps build test test-asan test-tsan bench demo suite real latency soak model params fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -17,10 +17,44 @@ build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j$(JOBS)
 
 test: build
-	@rm -rf $(BUILD)/test_results
-	cmake --build $(BUILD) -j$(JOBS) --target tests
-	-@SGT_REQUIRE_DB=1 cmake --build $(BUILD) --target run_tests -- -k > $(BUILD)/run_tests.log 2>&1; true
-	@/usr/bin/python3 scripts/test_summary.py $(BUILD)/test_results $(BUILD)/run_tests.log
+	@rm -rf $(BUILD)/test_results $(SAN_LOGS)
+	$(SAN_SETUP)
+	$(SAN_ENV) cmake --build $(BUILD) -j$(JOBS) --target tests
+	-@SGT_REQUIRE_DB=1 $(SAN_ENV) cmake --build $(BUILD) --target run_tests -- -k > $(BUILD)/run_tests.log 2>&1; true
+	@/usr/bin/python3 scripts/test_summary.py $(BUILD)/test_results $(BUILD)/run_tests.log \
+	  $(if $(SANITIZER),--sanitizer-logs $(SAN_LOGS))
+
+# make test in a sanitized build of its own: test-asan (AddressSanitizer + UndefinedBehaviorSanitizer,
+# $(BUILD)/asan), test-tsan (ThreadSanitizer, $(BUILD)/tsan); gcc, -O1 -g. Every sanitizer report
+# fails the run, even when its test passed: the sanitized processes write them to
+# $(BUILD)/<kind>/sanitizer/, test_summary.py prints them and counts the failed case "sanitizer
+# reports". Suppressions (third-party code only, each with its reason): test/sanitizers/*.supp.
+# The nodelet manager (/usr/lib/nodelet/nodelet, not instrumented) loads our instrumented nodelet
+# library: the rostests start it through test/sanitizers/nodelet, which preloads the runtime.
+SAN_CXX_FLAGS_asan := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+SAN_CXX_FLAGS_tsan := -fsanitize=thread
+# UBSan's reports to its log_path too, not stderr (test/sanitizers/ubsan_log_path.cpp says why).
+SAN_LINK_OBJECT_asan := $(CURDIR)/$(BUILD)/asan/ubsan_log_path.o
+san_cmake_flags = -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
+  -DCMAKE_CXX_FLAGS="$(SAN_CXX_FLAGS_$(1))" -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/$(1)/devel \
+  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_LINK_OBJECT_$(1))" -DCMAKE_SHARED_LINKER_FLAGS="$(SAN_LINK_OBJECT_$(1))"
+test-asan test-tsan: test-%:
+	@mkdir -p $(BUILD)/$*
+	$(if $(SAN_LINK_OBJECT_$*),g++ -O1 -g -fPIC -c test/sanitizers/ubsan_log_path.cpp -o $(SAN_LINK_OBJECT_$*))
+	@$(MAKE) --no-print-directory test SANITIZER=$* BUILD=$(BUILD)/$* CMAKE_FLAGS='$(call san_cmake_flags,$*)'
+
+SANITIZER ?=
+SAN_LOGS := $(if $(SANITIZER),$(CURDIR)/$(BUILD)/sanitizer)
+SAN_SUPP := $(CURDIR)/test/sanitizers
+SAN_RUNTIME_asan = $(shell gcc -print-file-name=libasan.so)
+SAN_RUNTIME_tsan = $(shell gcc -print-file-name=libtsan.so)
+SAN_OPTIONS_asan = ASAN_OPTIONS=log_path=$(SAN_LOGS)/asan:log_exe_name=1:detect_stack_use_after_return=1:check_initialization_order=1 \
+  UBSAN_OPTIONS=log_path=$(SAN_LOGS)/ubsan:log_exe_name=1:print_stacktrace=1:halt_on_error=1 \
+  LSAN_OPTIONS=suppressions=$(SAN_SUPP)/lsan.supp:print_suppressions=0
+SAN_OPTIONS_tsan = TSAN_OPTIONS=log_path=$(SAN_LOGS)/tsan:log_exe_name=1:halt_on_error=0:second_deadlock_stack=1:suppressions=$(SAN_SUPP)/tsan.supp:print_suppressions=0
+SAN_ENV := $(if $(SANITIZER),$(SAN_OPTIONS_$(SANITIZER)) SGT_SANITIZER_RUNTIME=$(SAN_RUNTIME_$(SANITIZER)))
+SAN_SETUP := $(if $(SANITIZER),@mkdir -p $(SAN_LOGS) $(BUILD)/devel/lib/nodelet && \
+  ln -sf $(SAN_SUPP)/nodelet $(BUILD)/devel/lib/nodelet/nodelet)
 
 bench: build
 	cmake --build $(BUILD) -j$(JOBS) --target benchmarks

@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Summarise gtest/rostest JUnit results and gate on them.
 
-Usage: test_summary.py RESULTS_DIR [RUN_TESTS_LOG]
+Usage: test_summary.py RESULTS_DIR [RUN_TESTS_LOG] [--sanitizer-logs DIR]
 Prints failing cases (with the tail of the log when results are missing), then exactly one
 last line `N passed, N failed` (plus `, N skipped` when some were skipped). Exit status 1 when
 any case failed, when catkin_test_results disagrees, or when there are no results at all.
+--sanitizer-logs (make test-asan, make test-tsan): the directory the sanitized processes write
+their reports to (log_path); one more case, "sanitizer reports", fails when it holds any file
+(the first lines of each are printed), even when every test passed.
 """
 import os
 import subprocess
@@ -31,9 +34,29 @@ def cases(path):
             yield (name, "", "passed")
 
 
+def sanitizer_reports(directory, lines=40):
+    """(path, first lines) of each sanitizer report file in directory."""
+    reports = []
+    if not os.path.isdir(directory):
+        return reports
+    for f in sorted(os.listdir(directory)):
+        path = os.path.join(directory, f)
+        with open(path, errors="replace") as fh:
+            head = fh.readlines()
+        text = "".join(head[:lines]) + ("    ... (%d lines)\n" % len(head) if len(head) > lines else "")
+        reports.append((path, text))
+    return reports
+
+
 def main():
-    results = sys.argv[1]
-    log = sys.argv[2] if len(sys.argv) > 2 else None
+    args = sys.argv[1:]
+    sanitizer_logs = None
+    if "--sanitizer-logs" in args:
+        i = args.index("--sanitizer-logs")
+        sanitizer_logs = args[i + 1]
+        del args[i:i + 2]
+    results = args[0]
+    log = args[1] if len(args) > 1 else None
     counts = {"passed": 0, "failed": 0, "skipped": 0}
     failures = []
     for top, _, files in os.walk(results):
@@ -43,15 +66,25 @@ def main():
                     counts[status] += 1
                     if status == "failed":
                         failures.append((name, msg))
+    reports = sanitizer_reports(sanitizer_logs) if sanitizer_logs else []
     gate = subprocess.run(["catkin_test_results", results], capture_output=True, text=True)
     for name, msg in failures:
         print("FAILED %s\n    %s" % (name, msg.replace("\n", "\n    ")[:2000]))
     if gate.returncode != 0 and not failures:
         print(gate.stdout + gate.stderr)
         counts["failed"] += 1
+    for k, (path, text) in enumerate(reports):
+        if k < 10:
+            print("SANITIZER REPORT %s\n    %s" % (path, text.rstrip().replace("\n", "\n    ")))
+        else:
+            print("SANITIZER REPORT %s" % path)
     if sum(counts.values()) == 0:
         print("no test results found in %s" % results)
         counts["failed"] += 1
+    if sanitizer_logs:
+        counts["failed" if reports else "passed"] += 1
+        if reports:
+            print("FAILED sanitizer reports: %d file(s) in %s" % (len(reports), sanitizer_logs))
     if counts["failed"] and log and os.path.exists(log):
         print("---- tail of %s ----" % log)
         with open(log, errors="replace") as fh:
