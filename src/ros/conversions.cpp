@@ -216,18 +216,21 @@ sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const
       sensor_msgs::PointField::FLOAT32, "intensity", 1, sensor_msgs::PointField::FLOAT32, "ring", 1,
       sensor_msgs::PointField::UINT16);
   cloud.is_dense = false;
-  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z"),
-      in(cloud, "intensity");
-  sensor_msgs::PointCloud2Iterator<std::uint16_t> ring(cloud, "ring");
-  for (std::size_t i = 0; i < ranges.size(); ++i, ++x, ++y, ++z, ++in, ++ring) {
+  // Points are 18 bytes apart, so most of their floats are not 4-byte aligned: copy the bytes
+  // (PointCloud2Iterator's float references would be misaligned, undefined behaviour).
+  const auto put = [&](std::uint8_t* point, int field, const auto& value) {
+    std::memcpy(point + cloud.fields[field].offset, &value, sizeof value);
+  };
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
     const float r = ranges[i];
     const bool ok = std::isfinite(r) && r > 0.0f;
     const Eigen::Vector3f p =
         ok ? Eigen::Vector3f(rays.directions[i] * r)
            : Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
-    *x = p.x(), *y = p.y(), *z = p.z();
-    *in = i < intensity.size() ? intensity[i] : 0.0f;
-    *ring = static_cast<std::uint16_t>(i / rays.width);
+    std::uint8_t* point = cloud.data.data() + i * cloud.point_step;
+    put(point, 0, p.x()), put(point, 1, p.y()), put(point, 2, p.z());
+    put(point, 3, i < intensity.size() ? intensity[i] : 0.0f);
+    put(point, 4, static_cast<std::uint16_t>(i / rays.width));
   }
   return cloud;
 }

@@ -337,6 +337,8 @@ sensor_msgs::PointCloud2 TrackerNodelet::unassignedPoints(const PipelineResult& 
   sensor_msgs::PointCloud2Modifier mod(cloud);
   mod.setPointCloud2FieldsByString(1, "xyz");
   mod.resize(n);
+  // An iterator on an empty cloud dereferences its empty data (undefined behaviour).
+  if (n == 0) return cloud;
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
   for (const auto& p : r.presegmentation)
     for (const auto& q : p.unknown_points) *x = q.x(), *y = q.y(), *z = q.z(), ++x, ++y, ++z;
