@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test test-asan test-tsan bench demo suite real latency soak model params fuzz clean
+.PHONY: deps build test test-asan test-tsan install-check bench demo suite real latency soak model params fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -56,8 +56,14 @@ SAN_ENV := $(if $(SANITIZER),$(SAN_OPTIONS_$(SANITIZER)) SGT_SANITIZER_RUNTIME=$
 SAN_SETUP := $(if $(SANITIZER),@mkdir -p $(SAN_LOGS) $(BUILD)/devel/lib/nodelet && \
   ln -sf $(SAN_SUPP)/nodelet $(BUILD)/devel/lib/nodelet/nodelet)
 
+# The package as an install space with the source tree hidden (scripts/install-check.sh); also
+# part of make test.
+install-check: build
+	cmake --build $(BUILD) -j$(JOBS) --target scene_graph_tracker_rostest_tracker
+	@scripts/install-check.sh $(BUILD)
+
 bench: build
-	cmake --build $(BUILD) -j$(JOBS) --target benchmarks
+	cmake --build $(BUILD) -j$(JOBS) --target scene_graph_tracker_benchmarks
 	@scripts/run-benchmarks.sh $(BUILD)
 
 # Simulate the default scenario into a bag and write its static world beside it (write_map: the
@@ -168,7 +174,7 @@ model: build
 # config/tracker.yaml, config/detector.yaml, cfg/Tracker.cfg and the README's parameter tables from
 # the parameter schema (src/core/pipeline/parameter_schema.cpp); test_parameter_schema checks them.
 params: deps $(BUILD)/CMakeCache.txt
-	cmake --build $(BUILD) -j$(JOBS) --target print_parameters
+	cmake --build $(BUILD) -j$(JOBS) --target scene_graph_tracker_print_parameters
 	$(TOOLS)/print_parameters --write $(CURDIR)
 
 # libFuzzer targets (test/fuzz/, cmake/fuzz.cmake) in a clang build of their own ($(BUILD)/fuzz,

@@ -3,7 +3,7 @@
 # - with -DSGT_FUZZ=ON and clang (CC=clang CXX=clang++, a build directory of its own: build/fuzz),
 #   as the libFuzzer executable fuzz_<name> (the file then defines LLVMFuzzerTestOneInput);
 #   CMakeLists.txt compiles everything there with -fsanitize=fuzzer-no-link,address,undefined,
-#   so the libraries the targets link are coverage-instrumented. `cmake --build --target fuzz`
+#   so the libraries the targets link are coverage-instrumented. `cmake --build --target scene_graph_tracker_fuzz`
 #   builds the targets and only the libraries they link.
 # - with the tests, into test_fuzz_regressions (test/fuzz/test_fuzz_regressions.cpp), which runs
 #   every file of test/fuzz/corpus/<name>/ and test/fuzz/regressions/<name>/ through them.
@@ -22,17 +22,18 @@ if(SGT_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     message(FATAL_ERROR "SGT_FUZZ=ON needs clang (CC=clang CXX=clang++), not ${CMAKE_CXX_COMPILER_ID}")
   endif()
-  add_custom_target(fuzz)
+  add_custom_target(${PROJECT_NAME}_fuzz)
   # Developer programs of a build of their own, not installed.
   #catkin_lint: ignore uninstalled_target
   foreach(name ${SGT_FUZZ_TARGETS})
-    add_executable(fuzz_${name} EXCLUDE_FROM_ALL test/fuzz/${name}.cpp)
-    target_include_directories(fuzz_${name} PRIVATE test/fuzz)
-    target_compile_definitions(fuzz_${name} PRIVATE SGT_LIBFUZZER)
-    target_link_libraries(fuzz_${name} ${SGT_FUZZ_LIBRARIES_${name}})
-    target_link_options(fuzz_${name} PRIVATE -fsanitize=fuzzer,address,undefined)
-    set_target_properties(fuzz_${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
-    add_dependencies(fuzz fuzz_${name})
+    set(target ${PROJECT_NAME}_fuzz_${name})  # the program: bin/fuzz_<name>
+    add_executable(${target} EXCLUDE_FROM_ALL test/fuzz/${name}.cpp)
+    target_include_directories(${target} PRIVATE test/fuzz)
+    target_compile_definitions(${target} PRIVATE SGT_LIBFUZZER)
+    target_link_libraries(${target} ${SGT_FUZZ_LIBRARIES_${name}})
+    target_link_options(${target} PRIVATE -fsanitize=fuzzer,address,undefined)
+    set_target_properties(${target} PROPERTIES OUTPUT_NAME fuzz_${name} RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
+    add_dependencies(${PROJECT_NAME}_fuzz ${target})
   endforeach()
 endif()
 
@@ -53,10 +54,10 @@ if(CATKIN_ENABLE_TESTING)
     endforeach()
     list(REMOVE_DUPLICATES libraries)
     sgt_add_gtests(test/fuzz ${libraries})
-    target_sources(test_fuzz_regressions PRIVATE ${bodies})
-    target_include_directories(test_fuzz_regressions PRIVATE test/fuzz)
+    target_sources(${PROJECT_NAME}_test_fuzz_regressions PRIVATE ${bodies})
+    target_include_directories(${PROJECT_NAME}_test_fuzz_regressions PRIVATE test/fuzz)
     #catkin_lint: ignore_once missing_directory
-    target_include_directories(test_fuzz_regressions SYSTEM PRIVATE ${PROJECT_BINARY_DIR}/fuzz_include)
+    target_include_directories(${PROJECT_NAME}_test_fuzz_regressions SYSTEM PRIVATE ${PROJECT_BINARY_DIR}/fuzz_include)
   else()
     message(WARNING "fuzzer/FuzzedDataProvider.h not found (Debian: libclang-rt-14-dev): "
       "test_fuzz_regressions is not built")

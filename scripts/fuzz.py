@@ -47,7 +47,7 @@ def configure_and_build(build, jobs, targets):
                 sys.exit("fuzz: configuring %s failed, see %s" % (build, build / "build.log"))
         built = []
         for name in targets:
-            cmd = ["cmake", "--build", str(build), "-j%d" % jobs, "--target", "fuzz_" + name]
+            cmd = ["cmake", "--build", str(build), "-j%d" % jobs, "--target", "scene_graph_tracker_fuzz_" + name]
             log.flush()
             if subprocess.run(cmd, env=env, stdout=log, stderr=subprocess.STDOUT).returncode == 0:
                 built.append(name)

@@ -70,7 +70,7 @@ namespace {
 
 struct Args {
   std::string bag, output, map = "building",
-                           catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", mesh_dir;
+                           catalog = "package://scene_graph_tracker/config/objects.yaml", mesh_dir;
   std::string scenario;
   std::string furniture;  // furniture YAML (relations/furniture.hpp); replaces
                           // the building's workbench
@@ -80,8 +80,8 @@ struct Args {
   sgt::ros::BagTopics topics;
   std::string detector;  // model metadata YAML; empty: the bag's hypotheses
   bool relations = true;
-  std::string params = std::string(SGT_SOURCE_DIR) + "/config/tracker.yaml";
-  std::string detector_params = std::string(SGT_SOURCE_DIR) + "/config/detector.yaml";
+  std::string params = "package://scene_graph_tracker/config/tracker.yaml";
+  std::string detector_params = "package://scene_graph_tracker/config/detector.yaml";
   bool overlay = false;
   int surface_stride = 0;  // 0: 2, or 1 with the overlay
 };
@@ -159,7 +159,7 @@ Args parse(int argc, char** argv) {
   });
   if (a.bag.empty() || a.output.empty()) flags.fail("--bag and --output are required");
   if (a.detector == "default")
-    a.detector = std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml";
+    a.detector = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
   return a;
 }
 
@@ -558,8 +558,10 @@ void Evaluation::write() const {
   std::ofstream(args_.output + "/timeseries.csv") << report_.timeseriesCsv();
   if (overlay_) overlay_->writeSheet(args_.output + "/overlay.jpg");
   if (args_.plots) {
-    const std::string cmd = "/usr/bin/python3 " + std::string(SGT_SOURCE_DIR) +
-                            "/scripts/plot_report.py '" + args_.output + "'";
+    // The plotting script is installed beside this program (the devel space links it there).
+    const std::string script =
+        (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "plot_report.py").string();
+    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + args_.output + "'";
     if (std::system(cmd.c_str()) != 0) std::cerr << "warning: plotting failed (" << cmd << ")\n";
   }
   std::cout << report_.markdown() << "\n"

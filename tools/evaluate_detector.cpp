@@ -38,8 +38,7 @@ using namespace sgt;
 namespace {
 
 struct Args {
-  std::string dataset, model, output,
-      catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  std::string dataset, model, output, catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::size_t limit = 0;
   int debug_images = 8;
   bool write_thresholds = false;

@@ -5,9 +5,10 @@
 
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
 #include "scene_graph_tracker/simulation/procedural_objects.hpp"
+#include "scene_graph_tracker/util/package_files.hpp"
 
 int main(int argc, char** argv) {
-  const std::string dir = argc > 1 ? argv[1] : std::string(SGT_SOURCE_DIR) + "/meshes";
+  const std::string dir = argc > 1 ? argv[1] : sgt::packageFile("meshes");
   std::filesystem::create_directories(dir);
   for (const auto& name : sgt::paperObjectClasses()) {
     const sgt::TriangleMesh mesh = sgt::makeObjectModel(name);

@@ -587,7 +587,7 @@ int main(int argc, char** argv) {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog =
-        sgt::loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml", args.mesh_dir);
+        sgt::loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml", args.mesh_dir);
     DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction,
                              args.cuboid_labels);
     sgt::ProgressBar bar("render_dataset", args.count);

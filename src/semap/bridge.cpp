@@ -174,7 +174,7 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
   write_period_ = pnh.param("write_period", write_period_);
   relation_period_ = pnh.param("relation_period", relation_period_);
   std::string catalog = pnh.param<std::string>("catalog", "");
-  if (catalog.empty()) catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  if (catalog.empty()) catalog = "package://scene_graph_tracker/config/objects.yaml";
   catalog_ = loadObjectCatalog(catalog, pnh.param<std::string>("mesh_dir", ""));
 
   writer_ = std::make_unique<semap::SemapWriter>(settings_, options);

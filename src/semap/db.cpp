@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "scene_graph_tracker/util/package_files.hpp"
+
 namespace sgt::semap {
 namespace {
 
@@ -116,7 +118,7 @@ struct SemapDb::Impl {
 };
 
 SemapDb::SemapDb(DbSettings settings) : settings_(std::move(settings)) {
-  if (settings_.sql_dir.empty()) settings_.sql_dir = std::string(SGT_SOURCE_DIR) + "/sql";
+  if (settings_.sql_dir.empty()) settings_.sql_dir = packageFile("sql");
   impl_ = std::make_unique<Impl>(settings_.connectionString());
   if (settings_.statement_timeout_s > 0)
     impl_->conn.set_variable(

@@ -31,7 +31,7 @@ class DetectorNodeTest : public ::testing::Test {
     cam_.fx = j["K"][0].as<double>(), cam_.cx = j["K"][2].as<double>(),
     cam_.fy = j["K"][4].as<double>(), cam_.cy = j["K"][5].as<double>();
     const ObjectCatalog catalog =
-        loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+        loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml");
     RaycastScene scene;
     NodeId node = 10;
     for (const auto& o : j["objects"]) {

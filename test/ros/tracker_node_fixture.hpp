@@ -39,7 +39,7 @@ class TrackerNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const Building building = makeBuilding();  // the node's static_map (written by write_map)
-    catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+    catalog_ = loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml");
     world_.setStaticMap(std::make_shared<TriangleMesh>(building.mesh), 1);
     const Eigen::Vector3d top = building.workbench_top_centre.cast<double>();
     const std::vector<std::string> classes = {"multimeter", "screwdriver", "materialbox", "klt",

@@ -43,7 +43,7 @@ class SemapBridgeTest : public ::testing::Test {
   void SetUp() override {
     SGT_REQUIRE_POSTGRES();
     pg_ = std::make_unique<test::PgServer>();
-    catalog_ = loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+    catalog_ = loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml");
     const std::string port = "_db_port:=" + std::to_string(pg_->port()),
                       passfile = "_db_passfile:=" + pg_->settings().passfile;
     node_ = fork();

@@ -53,7 +53,7 @@ struct ModelInfo {
 //   letterbox_pad: 114               # optional
 //   scale: 0.00392156862745098       # optional (1/255)
 //   swap_rb: false                   # optional; true when the network takes BGR
-ModelInfo loadModelInfo(const std::string& yaml_path);
+ModelInfo loadModelInfo(const std::string& yaml_uri);  // a path or package:// URI
 
 // Where the image lands in the network input: input = image * scale + pad, both in continuous
 // coordinates (pixel (0, 0) covers [0, 1) x [0, 1), the convention of ultralytics' labels).

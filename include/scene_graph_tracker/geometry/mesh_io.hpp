@@ -46,8 +46,9 @@ void saveStl(const TriangleMesh& mesh, const std::string& path);
 // loadMesh reads back the same mesh, bit for bit (e.g. a generated static map).
 void savePly(const TriangleMesh& mesh, const std::string& path);
 
-// Resolves "package://scene_graph_tracker/x" and "file://x" URIs and relative paths
-// (relative to `base_dir`). package:// of other packages is resolved via ROS_PACKAGE_PATH.
+// Resolves "package://PKG/x" and "file://x" URIs and relative paths (relative to `base_dir`).
+// PKG through findPackageDir (util/package_files.hpp): scene_graph_tracker's share directory,
+// other packages in ROS_PACKAGE_PATH. Throws MeshError when the package is not found.
 std::string resolveResourcePath(const std::string& uri, const std::string& base_dir = "");
 
 }  // namespace sgt

@@ -69,7 +69,7 @@ struct TrackerNodeOptions {
   double max_time_jitter = 1.0;  // s (ros/stamp_order.hpp)
   std::string static_map;        // required: the static world as a mesh or URDF
   std::string furniture;         // optional: named boxes for relations (relations/furniture.hpp)
-  std::string catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;
   std::string track_id_file;  // optional: last track numbers, kept across restarts
   // The LiDAR's rays (columns over one turn, rings from min to max elevation); the VLP-16's.
@@ -87,8 +87,8 @@ struct DetectorParameters {
   detection::PnpOptions pnp;
   bool use_depth = true;
   double depth_max_offset = 0.02;
-  std::string model = std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml";
-  std::string catalog = std::string(SGT_SOURCE_DIR) + "/config/objects.yaml";
+  std::string model = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
+  std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;
 };
 
@@ -105,7 +105,8 @@ template <class Options>
 void set(const Schema<Options>& schema, Options& options, const std::string& name,
          const Value& value);
 
-// Applies a YAML file (a map; nested maps give '/'-separated names). Throws ParameterError
+// Applies a YAML file (a path or package:// URI; a map, nested maps give '/'-separated names).
+// Throws ParameterError
 // ("FILE: refine/rounds: 50 is outside [1, 30]") for a key that is no parameter, a value of the
 // wrong type or out of range, or a file that cannot be read.
 template <class Options>

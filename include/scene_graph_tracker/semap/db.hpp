@@ -28,7 +28,7 @@ struct DbSettings {
   double tcp_timeout_s = 10.0;
   double statement_timeout_s = 10.0;  // any one SQL statement; 0: none
   std::string
-      sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the source tree's sql/
+      sql_dir;  // where semap_schema.sql and semap_relations.sql are; empty: the package's sql/
   double factor = 3.5;  // relation parameters, as sgt::relations::RelationOptions
   double on_max_distance = 0.02;
   double tolerance = 0.0;  // m, containment: corners may lie this far outside

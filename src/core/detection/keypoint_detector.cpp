@@ -8,13 +8,17 @@
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "scene_graph_tracker/geometry/mesh_io.hpp"
+
 namespace sgt::detection {
 
 namespace fs = std::filesystem;
 
-ModelInfo loadModelInfo(const std::string& yaml_path) {
+ModelInfo loadModelInfo(const std::string& yaml_uri) {
+  std::string yaml_path = yaml_uri;
   YAML::Node y;
   try {
+    yaml_path = resolveResourcePath(yaml_uri);
     y = YAML::LoadFile(yaml_path);
   } catch (const std::exception& e) {
     throw DetectorError("model metadata " + yaml_path + ": " + e.what());

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "scene_graph_tracker/util/package_files.hpp"
+
 namespace fs = std::filesystem;
 
 namespace sgt {
@@ -179,20 +181,16 @@ std::string resolveResourcePath(const std::string& uri, const std::string& base_
     const auto slash = rest.find('/');
     const std::string pkg = rest.substr(0, slash);
     const std::string rel = slash == std::string::npos ? "" : rest.substr(slash + 1);
-    if (const char* rpp = std::getenv("ROS_PACKAGE_PATH")) {
-      std::stringstream ss(rpp);
-      std::string dir;
-      while (std::getline(ss, dir, ':')) {
-        if (dir.empty()) continue;
-        if (fs::path(dir).filename() == pkg && fs::exists(fs::path(dir) / "package.xml"))
-          return (fs::path(dir) / rel).string();
-        if (fs::exists(fs::path(dir) / pkg / "package.xml"))
-          return (fs::path(dir) / pkg / rel).string();
-      }
+    std::string dir;
+    try {
+      dir = findPackageDir(pkg);
+    } catch (const PackageFileError& e) {
+      throw MeshError("cannot resolve '" + uri + "': " + e.what());
     }
-    if (pkg == "scene_graph_tracker") return (fs::path(SGT_SOURCE_DIR) / rel).string();
-    throw MeshError("cannot resolve '" + uri + "': package '" + pkg +
-                    "' not found in ROS_PACKAGE_PATH");
+    if (dir.empty())
+      throw MeshError("cannot resolve '" + uri + "': package '" + pkg +
+                      "' not found in ROS_PACKAGE_PATH");
+    return (fs::path(dir) / rel).string();
   }
   fs::path p(uri);
   if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;

@@ -36,12 +36,9 @@ std::string yamlString(const std::string& s) {
   return q + "\"";
 }
 
-// A default as the README shows it: paths in the source tree relative to the package.
+// A default as the README shows it.
 std::string shownString(const std::string& s) {
-  const std::string source = SGT_SOURCE_DIR;
   if (s.empty()) return "`\"\"`";
-  if (s.compare(0, source.size(), source) == 0)
-    return "`$(find scene_graph_tracker)" + s.substr(source.size()) + "`";
   return "`" + s + "`";
 }
 

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <type_traits>
 
+#include "scene_graph_tracker/geometry/mesh_io.hpp"
+
 namespace sgt::params {
 namespace {
 
@@ -606,7 +608,13 @@ void applyYaml(const Schema<O>& schema, O& options, const std::string& text,
 }
 
 template <class O>
-void applyYamlFile(const Schema<O>& schema, O& options, const std::string& path) {
+void applyYamlFile(const Schema<O>& schema, O& options, const std::string& uri) {
+  std::string path = uri;
+  try {
+    path = resolveResourcePath(uri);
+  } catch (const MeshError& e) {
+    throw ParameterError(e.what());
+  }
   std::ifstream in(path);
   if (!in) throw ParameterError(path + ": cannot read the parameter file");
   std::stringstream text;

@@ -137,13 +137,16 @@ ObjectClass loadClass(const std::string& cls, const YAML::Node& o, const std::st
 
 }  // namespace
 
-ObjectCatalog loadObjectCatalog(const std::string& yaml_path,
-                                const std::string& mesh_dir_override) {
-  const std::string file = "object catalog '" + yaml_path + "'";
+ObjectCatalog loadObjectCatalog(const std::string& yaml_uri, const std::string& mesh_dir_override) {
+  const std::string file = "object catalog '" + yaml_uri + "'";
+  std::string yaml_path;
   YAML::Node root;
   try {
+    yaml_path = resolveResourcePath(yaml_uri);
     root = YAML::LoadFile(yaml_path);
   } catch (const YAML::Exception& e) {
+    throw CatalogError(file + ": " + e.what());
+  } catch (const MeshError& e) {
     throw CatalogError(file + ": " + e.what());
   }
   const fs::path yaml_dir = fs::path(yaml_path).parent_path();
