@@ -124,6 +124,17 @@ def growth(samples, node, key, relative):
     return (after[-1] - after[0]) / after[0] if relative else after[-1] - after[0]
 
 
+def stop_launch(launch):
+    """SIGINT to roslaunch's process group, SIGKILL after 30 s; it may have ended already."""
+    try:
+        os.killpg(launch.pid, signal.SIGINT)
+        launch.wait(timeout=30)
+    except ProcessLookupError:
+        pass
+    except subprocess.TimeoutExpired:
+        os.killpg(launch.pid, signal.SIGKILL)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--bag", required=True)
@@ -191,11 +202,7 @@ def main():
         status, published = listener.snapshot()
         rows = db_query(db_dir, db_port, "SELECT count(*) FROM pose_history")
     finally:
-        os.killpg(launch.pid, signal.SIGINT)
-        try:
-            launch.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            os.killpg(launch.pid, signal.SIGKILL)
+        stop_launch(launch)
     tracker = status.get("scene_graph_tracker: tracker", {})
     bridge = status.get("scene_graph_tracker: semap_bridge", {})
     subprocess.run([os.path.join(ROOT, "scripts/semap-db.sh"), "stop", db_dir, str(db_port)],

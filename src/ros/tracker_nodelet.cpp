@@ -244,8 +244,10 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
     objects.objects.push_back(trackedObjectMessage(o, parent_object));
     graph.nodes.push_back(graphNodeMessage(o, parent_object));
     if (publish_object_tf_) {
+      // TF follows the scene graph: a track in or on another hangs below it.
       geometry_msgs::TransformStamped tf;
-      tf.header = header, tf.child_frame_id = o.id, tf.transform = toTransform(o.T_map_object);
+      tf.header = header, tf.header.frame_id = graph.nodes.back().parent;
+      tf.child_frame_id = o.id, tf.transform = graph.nodes.back().T_parent_node;
       tf_broadcaster_->sendTransform(tf);
     }
   }
@@ -293,8 +295,8 @@ visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r,
     visualization_msgs::Marker m;
     m.header = header;
     m.ns = "objects", m.id = marker_id++, m.type = visualization_msgs::Marker::MESH_RESOURCE;
-    m.mesh_resource = "file://" + c.mesh_path;
-    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = 1.0,
+    m.mesh_resource = c.mesh_uri;
+    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = c.mesh_scale,
     m.color = colour(o.state);
     markers.markers.push_back(m);
     visualization_msgs::Marker box = m;

@@ -19,6 +19,9 @@ TEST(ObjectCatalog, LoadsThePackageCatalog) {
   EXPECT_NEAR(mm.box.sizes().y(), 0.087, 0.002);
   EXPECT_NEAR(mm.box.sizes().z(), 0.042, 0.002);
   EXPECT_FALSE(mm.symmetry.any());
+  // Viewers get the configured URI, which resolves on any machine with the package.
+  EXPECT_EQ(mm.mesh_uri, "package://scene_graph_tracker/meshes/multimeter.stl");
+  EXPECT_EQ(mm.mesh_scale, 1.0f);
   EXPECT_GT(mm.diameter, 0.19);
   EXPECT_LT(mm.diameter, 0.21);
   const ObjectClass& sd = catalog.get("screwdriver");
@@ -93,6 +96,7 @@ TEST(ObjectCatalog, PointsAtThePaperMeshes) {
   SGT_REQUIRE_PBR_OBJECTS(dir);
   const ObjectCatalog catalog = loadObjectCatalog(kCatalog, dir + "/meshes");
   EXPECT_NE(catalog.get("klt").mesh_path.find("klt3147.stl"), std::string::npos);
+  EXPECT_EQ(catalog.get("klt").mesh_uri, "file://" + catalog.get("klt").mesh_path);
   // The CAD file has 33,446 triangles, two of them zero-area (dropped at load).
   EXPECT_EQ(catalog.get("multimeter").mesh->triangleCount(), 33444u);
   // Symmetries come from model_info.json.

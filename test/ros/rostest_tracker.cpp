@@ -24,9 +24,14 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   ASSERT_TRUE(markers_);
   std::size_t meshes = 0;
   for (const auto& m : markers_->markers)
-    meshes += m.type == visualization_msgs::Marker::MESH_RESOURCE;
+    if (m.type == visualization_msgs::Marker::MESH_RESOURCE) {
+      ++meshes;  // by the catalog's package:// URI: rviz on another machine finds it
+      EXPECT_EQ(m.mesh_resource.rfind("package://scene_graph_tracker/meshes/", 0), 0u)
+          << m.mesh_resource;
+    }
   EXPECT_EQ(meshes, 5u);
-  EXPECT_GT(unassigned_, 200u);  // the unknown box on the bench
+  EXPECT_LT(worstTfError(), 1e-4);  // every object's TF frame where its message puts it
+  EXPECT_GT(unassigned_, 200u);     // the unknown box on the bench
 
   run(6, false);  // detections stop: the tracks coast on refinement
   EXPECT_LT(worstError(matched), 0.005);

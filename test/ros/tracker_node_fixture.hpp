@@ -12,6 +12,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <random>
@@ -145,6 +146,25 @@ class TrackerNodeTest : public ::testing::Test {
     return worst;
   }
 
+  // Largest distance between an object's published map pose and its TF frame seen from the map
+  // (the frame hangs below the object's scene-graph parent); 1e9 when a frame is missing.
+  double worstTfError() const {
+    if (!objects_) return 1e9;
+    double worst = 0.0;
+    for (const auto& o : objects_->objects) {
+      try {
+        const auto tf = tf_buffer_.lookupTransform(objects_->header.frame_id, o.id,
+                                                   objects_->header.stamp, ::ros::Duration(1.0));
+        worst = std::max(worst, (ros::toEigen(tf.transform).translation() -
+                                 ros::toEigen(o.pose.pose).translation())
+                                    .norm());
+      } catch (const tf2::TransformException&) {
+        return 1e9;
+      }
+    }
+    return worst;
+  }
+
   bool warned(const std::string& text) const {
     for (const auto& w : warnings_)
       if (w.find(text) != std::string::npos) return true;
@@ -176,6 +196,8 @@ class TrackerNodeTest : public ::testing::Test {
   ::ros::Subscriber objects_sub_, markers_sub_, points_sub_, rosout_sub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_{tf_buffer_};
   scene_graph_tracker::TrackedObjectArrayConstPtr objects_;
   visualization_msgs::MarkerArrayConstPtr markers_;
   std::size_t unassigned_ = 0, objects_count_ = 0;

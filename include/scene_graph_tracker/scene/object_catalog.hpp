@@ -35,6 +35,10 @@ struct Symmetry {
 struct ObjectClass {
   std::string name;
   std::string mesh_path;  // resolved file path
+  // The mesh for viewers on other machines (rviz markers): the configured package:// URI, else
+  // file://<mesh_path>; drawn at `mesh_scale` (the catalog's `scale`).
+  std::string mesh_uri;
+  float mesh_scale = 1.0f;
   std::shared_ptr<const TriangleMesh> mesh;
   Symmetry symmetry;
   Eigen::AlignedBox3f box;  // of the mesh, object frame

@@ -120,7 +120,8 @@ Schema<T> nodeParams() {
       flag<T>("publish_map_odom", kNode, NODE(publish_map_odom), kStart,
               "broadcast the map to odom correction of the localization"),
       flag<T>("publish_object_tf", kNode, NODE(publish_object_tf), kStart,
-              "broadcast map to track id per object"),
+              "broadcast each track's frame below its scene-graph parent (map or the track it is "
+              "in or on)"),
       number<T>("hypothesis_max_age", kNode, NODE(hypothesis_max_age), 0.0, 10.0, "s", kStart,
                 "the hypothesis array closest to a depth image within this is used with it"),
       number<T>("max_time_jitter", kNode, NODE(max_time_jitter), 0.0, 3600.0, "s", kStart,

@@ -125,8 +125,10 @@ ObjectClass loadClass(const std::string& cls, const YAML::Node& o, const std::st
     if (fs::exists(info))
       obj.symmetry = parseSymmetry(YAML::LoadFile(info.string()), info.string());
   }
+  const bool package_uri = mesh_dir_override.empty() && configured.rfind("package://", 0) == 0;
+  obj.mesh_uri = package_uri ? configured : "file://" + obj.mesh_path;
   MeshLoadOptions opts;
-  opts.scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
+  opts.scale = obj.mesh_scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
   opts.max_extent_m = 5.0f;  // a tracked object larger than 5 m is a unit mistake
   auto mesh = std::make_shared<TriangleMesh>(loadMesh(obj.mesh_path, opts));
   obj.box = mesh->boundingBox();
