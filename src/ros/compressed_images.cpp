@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
 
@@ -56,6 +57,31 @@ sensor_msgs::Image decompress(const sensor_msgs::CompressedImage& c) {
   } catch (const cv::Exception& e) {
     throw ConversionError(std::string("compressed image (") + c.format + "): " + e.what());
   }
+}
+
+// compressed_depth_image_transport's layout: a 12-byte header (format, two quantisation
+// parameters; unused for 16-bit depth) and the PNG.
+sensor_msgs::CompressedImage compressDepthMillimetres(const std_msgs::Header& h,
+                                                      const cv::Mat& mm) {
+  sensor_msgs::CompressedImage c;
+  c.header = h;
+  c.format = "16UC1; compressedDepth png";
+  std::vector<std::uint8_t> png;
+  cv::imencode(".png", mm, png);
+  c.data.assign(kDepthHeaderBytes, 0);
+  c.data.insert(c.data.end(), png.begin(), png.end());
+  return c;
+}
+
+sensor_msgs::CompressedImage compressRgbJpeg(const std_msgs::Header& h, const cv::Mat& rgb,
+                                             int quality) {
+  sensor_msgs::CompressedImage c;
+  c.header = h;
+  c.format = "rgb8; jpeg compressed bgr8";
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  cv::imencode(".jpg", bgr, c.data, {cv::IMWRITE_JPEG_QUALITY, quality});
+  return c;
 }
 
 }  // namespace sgt::ros

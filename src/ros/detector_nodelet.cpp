@@ -51,8 +51,14 @@ void DetectorNodelet::onInit() {
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   depth_max_offset_ = p.depth_max_offset;
-  if (p.use_depth) depth_sub_ = nh.subscribe("depth", 3, &DetectorNodelet::onDepth, this);
-  image_sub_.subscribe(nh, "image", 2);
+  const auto on_error = [this](const std::string& text) { onUndecodable(text); };
+  if (p.use_depth) {
+    depth_sub_.subscribe(nh, "depth", 3, p.depth_transport, on_error);
+    depth_sub_.registerCallback(&DetectorNodelet::onDepth, this);
+    NODELET_INFO("detector: depth images: %s", depth_sub_.description().c_str());
+  }
+  image_sub_.subscribe(nh, "image", 2, p.image_transport, on_error);
+  NODELET_INFO("detector: RGB images: %s", image_sub_.description().c_str());
   info_sub_.subscribe(nh, "camera_info", 2);
   sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), image_sub_,
                                                                       info_sub_);
@@ -85,6 +91,14 @@ void DetectorNodelet::warn(const std::string& text) {
   if (warnings_.shouldLog(text)) NODELET_WARN("detector: %s", text.c_str());
 }
 
+// An image that does not decode is counted as skipped (its RGB or depth image never arrives).
+void DetectorNodelet::onUndecodable(const std::string& text) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.skipped;
+  counts_.last_problem = text;
+  warn(text);
+}
+
 void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
   std::lock_guard<std::mutex> lock(depth_mutex_);
   pushRecent(depth_images_, depth, 5);
@@ -92,7 +106,7 @@ void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
 
 std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp,
                                                                     const PinholeModel& camera) {
-  if (!depth_sub_) return nullptr;
+  if (!depth_sub_.subscribed()) return nullptr;
   sensor_msgs::ImageConstPtr best;
   {
     std::lock_guard<std::mutex> lock(depth_mutex_);
@@ -101,7 +115,7 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
   if (!best) {
     char within[32];
     std::snprintf(within, sizeof within, "%.3g s", depth_max_offset_);
-    warn("no depth image on '" + depth_sub_.getTopic() + "' within " + within +
+    warn("no depth image on '" + depth_sub_.topic() + "' within " + within +
          " of the RGB image: distances from PnP alone (set use_depth false if there is no "
          "registered depth)");
     ++counts_.depth_unused;

@@ -105,7 +105,9 @@ void TrackerNodelet::onInit() {
   unassigned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("unassigned_points", 2);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 2);
   diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
-  depth_sub_.subscribe(nh, "depth/image", 3);
+  depth_sub_.subscribe(nh, "depth/image", 3, p.node.depth_transport,
+                       [this](const std::string& text) { onUndecodable(text); });
+  NODELET_INFO("tracker: depth images: %s", depth_sub_.description().c_str());
   info_sub_.subscribe(nh, "depth/camera_info", 3);
   sync_ = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(5), depth_sub_,
                                                                       info_sub_);
@@ -132,6 +134,13 @@ void TrackerNodelet::onInit() {
 
 void TrackerNodelet::warn(const std::string& text) {
   if (warnings_.shouldLog(text)) NODELET_WARN("tracker: %s", text.c_str());
+}
+
+// A depth image that does not decode is a frame in, skipped.
+void TrackerNodelet::onUndecodable(const std::string& text) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.frames_in, ++counts_.skipped;
+  warn("depth frame skipped: " + text);
 }
 
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
@@ -370,7 +379,9 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
                                {"time_jumps", c.time_jumps},
                                {"input_warnings", c.warnings},
                                {"hypotheses_over_limits", c.hypotheses_over_limits},
-                               {"hypotheses_duplicate", c.hypotheses_duplicate}})
+                               {"hypotheses_duplicate", c.hypotheses_duplicate},
+                               {"depth_received", depth_sub_.received()},
+                               {"depth_lost_before", depth_sub_.lost()}})
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));

@@ -138,7 +138,8 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
 
         if (ci < camera_ns.size() && camera_ns[ci] == t_ns) {
           sim::CameraFrame f = world.renderCamera(t, ci);
-          const std_msgs::Header h = header(stamp, frames::kCamera);
+          std_msgs::Header h = header(stamp, frames::kCamera);
+          h.seq = static_cast<std::uint32_t>(ci);  // numbered as a driver's publisher numbers them
           b->camera = true;
           b->info = toCameraInfo(cam);
           b->info.header = h;
@@ -171,6 +172,7 @@ ScenarioBagSummary writeScenarioBag(const sim::Scenario& s, const std::string& p
           b->lidar = true;
           b->cloud = cloudFromRanges(f.range, lidar_rays, f.intensity);
           b->cloud.header = header(stamp, frames::kLidar);
+          b->cloud.header.seq = static_cast<std::uint32_t>(li);
           b->lidar_labels =
               image(header(stamp, frames::kLidar), lidar_rays.width, lidar_rays.height,
                     sensor_msgs::image_encodings::MONO8, 1, std::move(f.labels));

@@ -16,6 +16,7 @@
 #include <random>
 
 #include "bag_messages.hpp"
+#include "scene_graph_tracker/ros/compressed_images.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
 #include "scene_graph_tracker/simulation/scenario_bag.hpp"
 
@@ -27,29 +28,6 @@ namespace enc = sensor_msgs::image_encodings;
 std::vector<std::uint8_t> bytesOf(const cv::Mat& m) {
   const cv::Mat c = m.isContinuous() ? m : m.clone();
   return std::vector<std::uint8_t>(c.data, c.data + c.total() * c.elemSize());
-}
-
-// compressed_depth_image_transport's layout: a 12-byte header (format, two quantisation
-// parameters; unused for 16-bit depth) and the PNG.
-sensor_msgs::CompressedImage compressedDepth(const std_msgs::Header& h, const cv::Mat& mm) {
-  sensor_msgs::CompressedImage c;
-  c.header = h;
-  c.format = "16UC1; compressedDepth png";
-  std::vector<std::uint8_t> png;
-  cv::imencode(".png", mm, png);
-  c.data.assign(12, 0);
-  c.data.insert(c.data.end(), png.begin(), png.end());
-  return c;
-}
-
-sensor_msgs::CompressedImage compressedRgb(const std_msgs::Header& h, const cv::Mat& rgb) {
-  sensor_msgs::CompressedImage c;
-  c.header = h;
-  c.format = "rgb8; jpeg compressed bgr8";
-  cv::Mat bgr;
-  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  cv::imencode(".jpg", bgr, c.data, {cv::IMWRITE_JPEG_QUALITY, 95});
-  return c;
 }
 
 // Depth in metres (NaN = no return) back to 16-bit millimetres (0 = no return).
@@ -114,9 +92,9 @@ void SequenceWriter::writeImages(const RgbdSequence::Frame& f, const std_msgs::H
   const cv::Mat rgb = loadSequenceRgb(s_, f);
   const cv::Mat depth_mm = millimetres(loadSequenceDepth(s_, f), cam);
   if (o_.compressed) {
-    bag_.write(std::string(topics::kRgb) + "/compressed", h.stamp, compressedRgb(h, rgb));
+    bag_.write(std::string(topics::kRgb) + "/compressed", h.stamp, compressRgbJpeg(h, rgb));
     bag_.write(std::string(topics::kDepth) + "/compressedDepth", h.stamp,
-               compressedDepth(h, depth_mm));
+               compressDepthMillimetres(h, depth_mm));
   } else {
     bag_.write(topics::kRgb, h.stamp, image(h, cam.width, cam.height, enc::RGB8, 3, bytesOf(rgb)));
     sensor_msgs::Image depth = image(h, cam.width, cam.height, enc::TYPE_16UC1, 1, {});

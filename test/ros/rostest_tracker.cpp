@@ -103,6 +103,24 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   EXPECT_EQ(matched, 5u);
 }
 
+// tracker_compressed.test: the node reads depth as compressedDepth (image_transport's plugin where
+// it is installed, else its own decoder) and tracks as from raw images; a message that does not
+// decode is warned about.
+TEST_F(TrackerNodeTest, TracksFromCompressedDepth) {
+  ASSERT_TRUE(compressed_) << "run by tracker_compressed.test (~depth_transport compressedDepth)";
+  run(8, true);
+  std::size_t matched = 0;
+  EXPECT_LT(worstError(matched), 0.005);
+  EXPECT_EQ(matched, 5u);
+  sensor_msgs::CompressedImage broken;
+  broken.header.stamp = ::ros::Time::now(), broken.header.frame_id = "camera";
+  broken.format = "16UC1; compressedDepth png";
+  broken.data.assign(40, 7);
+  depth_compressed_pub_.publish(broken);
+  for (int i = 0; i < 100; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
+  EXPECT_TRUE(warned("does not decode"));
+}
+
 }  // namespace
 }  // namespace sgt
 

@@ -39,6 +39,21 @@ TEST(CompressedImages, DepthInMillimetresDecodesExactly) {
   EXPECT_TRUE(std::isnan(depth[1 * 6 + 2]));
 }
 
+TEST(CompressedImages, MillimetresRoundTripThroughTheEncoder) {
+  cv::Mat mm(3, 5, CV_16UC1, cv::Scalar(2500));
+  mm.at<std::uint16_t>(2, 4) = 0;
+  std_msgs::Header h;
+  h.frame_id = "camera", h.seq = 7;
+  const sensor_msgs::Image img = decompress(compressDepthMillimetres(h, mm));
+  EXPECT_EQ(img.header.frame_id, "camera");
+  EXPECT_EQ(img.header.seq, 7u);
+  PinholeModel cam;
+  cam.width = 5, cam.height = 3;
+  const std::vector<float> depth = depthFromImage(img, cam);
+  EXPECT_FLOAT_EQ(depth[0], 2.5f);
+  EXPECT_TRUE(std::isnan(depth[2 * 5 + 4]));
+}
+
 TEST(CompressedImages, InverseDepthIsQuantisedBack) {
   // image_transport stores depth d as a / d + b; here a = 1000, b = 10: 2 m is 510.
   cv::Mat q(2, 2, CV_16UC1, cv::Scalar(510));

@@ -9,6 +9,7 @@
 #include <rosgraph_msgs/Log.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 #include <scene_graph_tracker/TrackedObjectArray.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -21,6 +22,7 @@
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
+#include "scene_graph_tracker/ros/compressed_images.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
@@ -65,6 +67,10 @@ class TrackerNodeTest : public ::testing::Test {
     depth_ = depthImage(simulate(world_, *rays_, T_map_base_ * T_base_camera_), *rays_);
 
     depth_pub_ = nh_.advertise<sensor_msgs::Image>("/test/depth", 5);
+    // tracker_compressed.test: the node reads compressedDepth (<topic>/compressedDepth).
+    compressed_ = ::ros::param::param<std::string>("~depth_transport", "raw") == "compressedDepth";
+    depth_compressed_pub_ =
+        nh_.advertise<sensor_msgs::CompressedImage>("/test/depth/compressedDepth", 5);
     info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("/test/camera_info", 5);
     hyp_pub_ = nh_.advertise<scene_graph_tracker::PoseHypothesisArray>("/test/pose_hypotheses", 5);
     cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
@@ -78,11 +84,11 @@ class TrackerNodeTest : public ::testing::Test {
     cam.transform = ros::toTransform(T_base_camera_);
     static_tf_.sendTransform(cam);
     // Wait for the node (it builds the building's BVH first).
-    for (int i = 0;
-         i < 600 && (depth_pub_.getNumSubscribers() == 0 || objects_sub_.getNumPublishers() == 0);
+    for (int i = 0; i < 600 && (depthPublisher().getNumSubscribers() == 0 ||
+                                objects_sub_.getNumPublishers() == 0);
          ++i)
       ::ros::Duration(0.1).sleep();
-    ASSERT_GT(depth_pub_.getNumSubscribers(), 0u) << "the tracker node did not come up";
+    ASSERT_GT(depthPublisher().getNumSubscribers(), 0u) << "the tracker node did not come up";
   }
 
   // One frame: odom -> base at `stamp` (odom = map here), depth image and camera_info, and
@@ -116,7 +122,10 @@ class TrackerNodeTest : public ::testing::Test {
       hyp_pub_.publish(h);
     }
     ::ros::Duration(0.01).sleep();
-    depth_pub_.publish(img);
+    if (compressed_ && encoding == "32FC1")
+      depth_compressed_pub_.publish(ros::compressDepthMillimetres(img.header, millimetres(depth)));
+    else
+      depth_pub_.publish(img);
     info_pub_.publish(info);
     for (int i = 0; i < 10; ++i) ::ros::Duration(0.01).sleep(), ::ros::spinOnce();
   }
@@ -165,6 +174,19 @@ class TrackerNodeTest : public ::testing::Test {
     return worst;
   }
 
+  const ::ros::Publisher& depthPublisher() const {
+    return compressed_ ? depth_compressed_pub_ : depth_pub_;
+  }
+
+  // Depth in metres (NaN: no return) as 16-bit millimetres (0: no return).
+  cv::Mat millimetres(const std::vector<float>& depth) const {
+    cv::Mat mm(cam_.height, cam_.width, CV_16UC1);
+    for (int k = 0; k < cam_.width * cam_.height; ++k)
+      mm.at<std::uint16_t>(k / cam_.width, k % cam_.width) =
+          std::isfinite(depth[k]) ? static_cast<std::uint16_t>(std::lround(depth[k] * 1000.0f)) : 0;
+    return mm;
+  }
+
   bool warned(const std::string& text) const {
     for (const auto& w : warnings_)
       if (w.find(text) != std::string::npos) return true;
@@ -192,7 +214,8 @@ class TrackerNodeTest : public ::testing::Test {
   std::vector<float> depth_;
   std::mt19937 rng_{3};
   std::normal_distribution<double> g_;
-  ::ros::Publisher depth_pub_, info_pub_, hyp_pub_, cloud_pub_;
+  ::ros::Publisher depth_pub_, depth_compressed_pub_, info_pub_, hyp_pub_, cloud_pub_;
+  bool compressed_ = false;
   ::ros::Subscriber objects_sub_, markers_sub_, points_sub_, rosout_sub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;

@@ -90,7 +90,13 @@ TEST(SemapFaults, BackendKilledMidCommitLosesNothing) {
   {
     Feeder feeder(writer, kFrames);
     for (int kill_no = 0; kill_no < 3; ++kill_no) {
-      std::this_thread::sleep_for(milliseconds(1200));
+      // Each kill hits an established connection (one that is still connecting would fail and
+      // be retried without counting as a connect): wait for the writer's reconnect first.
+      const auto until = Clock::now() + std::chrono::seconds(30);
+      while (writer.stats().connects < static_cast<std::size_t>(kill_no) + 1 &&
+             Clock::now() < until)
+        std::this_thread::sleep_for(milliseconds(20));
+      std::this_thread::sleep_for(milliseconds(600));  // frames in flight
       const int pid = writerBackend(pg);
       ASSERT_GT(pid, 0) << "no backend serves the writer";
       ASSERT_EQ(::kill(pid, SIGKILL), 0);  // the postmaster then restarts every backend

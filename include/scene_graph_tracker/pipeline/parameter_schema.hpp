@@ -66,9 +66,10 @@ struct TrackerNodeOptions {
   bool publish_map_odom = true;
   bool publish_object_tf = false;
   double hypothesis_max_age = 0.1;
-  double max_time_jitter = 1.0;  // s (ros/stamp_order.hpp)
-  std::string static_map;        // required: the static world as a mesh or URDF
-  std::string furniture;         // optional: named boxes for relations (relations/furniture.hpp)
+  double max_time_jitter = 1.0;         // s (ros/stamp_order.hpp)
+  std::string depth_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
+  std::string static_map;               // required: the static world as a mesh or URDF
+  std::string furniture;  // optional: named boxes for relations (relations/furniture.hpp)
   std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;
   std::string track_id_file;  // optional: last track numbers, kept across restarts
@@ -86,6 +87,8 @@ struct DetectorParameters {
   detection::DecodeOptions decode;
   detection::PnpOptions pnp;
   bool use_depth = true;
+  std::string image_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
+  std::string depth_transport = "raw";
   double depth_max_offset = 0.02;
   std::string model = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
   std::string catalog = "package://scene_graph_tracker/config/objects.yaml";

@@ -1,10 +1,12 @@
 // The keypoint detector as a nodelet: RGB image + camera_info in, pose hypotheses out.
 //
-// Subscribes: image (rgb8/bgr8/rgba8/bgra8/mono8) and camera_info, synchronised. Publishes:
+// Subscribes: image (rgb8/bgr8/rgba8/bgra8/mono8; raw or compressed: image_transport,
+// ros/image_input.hpp) and camera_info, synchronised. Publishes:
 // ~pose_hypotheses (PoseHypothesisArray, poses in the image's frame, stamped like the image) —
 // what the tracker consumes — and ~debug_image (rgb8 with boxes, cuboids and keypoints) when
 // someone subscribes to it. With `use_depth` (default true) it also subscribes to `depth` — a depth
-// image registered to the RGB image (same size and intrinsics, 32FC1 m or 16UC1 mm) — and each
+// image registered to the RGB image (same size and intrinsics, 32FC1 m or 16UC1 mm; raw, compressed
+// or compressedDepth: depth_transport) — and each
 // accepted pose gets its distance from the depth image closest in time (within
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
 // (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
@@ -28,6 +30,7 @@
 #include <mutex>
 
 #include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/ros/image_input.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
 
 namespace sgt::ros {
@@ -42,6 +45,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onImage(const sensor_msgs::ImageConstPtr& image,
                const sensor_msgs::CameraInfoConstPtr& info);
   void onDepth(const sensor_msgs::ImageConstPtr& depth);
+  void onUndecodable(const std::string& text);
   // The buffered depth image closest to `stamp` within depth_max_offset_, as range measurements of
   // `camera` (the RGB camera it is registered to); nullptr with a warning when there is none.
   std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp,
@@ -52,11 +56,11 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<detection::PoseDetector> detector_;
   std::mutex mutex_;
   WarningThrottle warnings_;
-  message_filters::Subscriber<sensor_msgs::Image> image_sub_;
+  ImageInput image_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ::ros::Publisher hypotheses_pub_, debug_pub_;
-  ::ros::Subscriber depth_sub_;
+  ImageInput depth_sub_;    // with use_depth
   std::mutex depth_mutex_;  // the depth buffer is filled by its own callback
   std::deque<sensor_msgs::ImageConstPtr> depth_images_;
   double depth_max_offset_{};  // params::DetectorParameters (onInit)

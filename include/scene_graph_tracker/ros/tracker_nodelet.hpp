@@ -1,11 +1,13 @@
 // The tracker as a nodelet: converts topics into pipeline frames, runs FramePipeline, publishes
 // the results. No tracking logic lives here (see pipeline/frame_pipeline.hpp).
 //
-// Subscribes: depth image + camera_info (synchronised), a LiDAR PointCloud2 (its model from the
-// lidar/* parameters), pose hypotheses
-// (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
+// Subscribes: depth image (raw, compressed or compressedDepth: depth_transport,
+// ros/image_input.hpp)
+// + camera_info (synchronised), a LiDAR PointCloud2 (its model from the lidar/* parameters), pose
+// hypotheses (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
 // ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
-// map -> odom (publish_map_odom) and map -> <object id> (publish_object_tf). Services: ~reset,
+// map -> odom (publish_map_odom) and each track's frame below its scene-graph parent
+// (publish_object_tf). Services: ~reset,
 // ~add_track, ~remove_track. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
 // config/tracker.yaml, doc/parameters.md; most also at run time (dynamic_reconfigure,
 // cfg/Tracker.cfg).
@@ -39,6 +41,7 @@
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
+#include "scene_graph_tracker/ros/image_input.hpp"
 #include "scene_graph_tracker/ros/stamp_order.hpp"
 #include "scene_graph_tracker/ros/track_id_store.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
@@ -56,6 +59,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onDepth(const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::CameraInfoConstPtr& info);
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onUndecodable(const std::string& text);
   void onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg);
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onAddTrack(scene_graph_tracker::AddTrack::Request& req,
@@ -98,7 +102,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
-  message_filters::Subscriber<sensor_msgs::Image> depth_sub_;
+  ImageInput depth_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ::ros::Subscriber cloud_sub_, hypotheses_sub_;

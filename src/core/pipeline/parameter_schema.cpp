@@ -120,12 +120,15 @@ Schema<T> nodeParams() {
       flag<T>("publish_map_odom", kNode, NODE(publish_map_odom), kStart,
               "broadcast the map to odom correction of the localization"),
       flag<T>("publish_object_tf", kNode, NODE(publish_object_tf), kStart,
-              "broadcast each track's frame below its scene-graph parent (map or the track it is "
-              "in or on)"),
+              "broadcast the frame of each track below its scene-graph parent (map or the track "
+              "it is in or on)"),
       number<T>("hypothesis_max_age", kNode, NODE(hypothesis_max_age), 0.0, 10.0, "s", kStart,
                 "the hypothesis array closest to a depth image within this is used with it"),
       number<T>("max_time_jitter", kNode, NODE(max_time_jitter), 0.0, 3600.0, "s", kStart,
                 "an image older than the last by up to this is dropped; by more, the tracks reset"),
+      text<T>("depth_transport", kNode, NODE(depth_transport), true,
+              "how depth images arrive: raw, compressed or compressedDepth (image_transport; "
+              "tracker.launch depth_transport)"),
       text<T>("static_map", kNode, NODE(static_map), false,
               "the static world as a mesh or URDF file, required (tracker.launch static_map)"),
       text<T>("furniture", kNode, NODE(furniture), false,
@@ -454,6 +457,12 @@ Schema<D> makeDetectorSchema() {
                 "the object centre must be at least this far in front of the camera"),
       flag<D>("use_depth", kDetection, DET(use_depth), kStart,
               "distance of each pose from the registered depth image (topic depth)"),
+      text<D>("image_transport", kDetection, DET(image_transport), true,
+              "how RGB images arrive: raw or compressed (image_transport; tracker.launch "
+              "image_transport)"),
+      text<D>("depth_transport", kDetection, DET(depth_transport), true,
+              "how depth images arrive: raw, compressed or compressedDepth (tracker.launch "
+              "depth_transport)"),
       number<D>("depth_max_offset", kDetection, DET(depth_max_offset), 0.0, 1.0, "s", kStart,
                 "the depth image closest in time to the RGB image, at most this far"),
       text<D>("model", kDetection, DET(model), false,
