@@ -63,7 +63,8 @@ void TrackerNodelet::onInit() {
     NODELET_WARN("tracker: ~%s is no parameter of the tracker (ignored; see doc/parameters.md)",
                  name.c_str());
   map_frame_ = p.node.map_frame, odom_frame_ = p.node.odom_frame, base_frame_ = p.node.base_frame;
-  publish_map_odom_ = p.node.publish_map_odom, publish_object_tf_ = p.node.publish_object_tf;
+  publish_object_tf_ = p.node.publish_object_tf;
+  setUpLocalization(p.node, p.pipeline);  // external: localize off, dynamic_reconfigure says so
   const PipelineOptions& o = p.pipeline;
   const std::string& catalog_path = p.node.catalog;
   const std::string& mesh_dir = p.node.mesh_dir;
@@ -179,6 +180,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
   }
   counts_.warnings += frame.warnings.size();
   for (const std::string& w : frame.warnings) warn(w);
+  if (external_localization_) applyExternalLocalization(stamp);
   try {  // a failure costs this frame, never the nodelet manager
     const PipelineResult r = pipeline_->process(std::move(frame.frame));
     counts_.hypotheses_over_limits += r.hypotheses_over_limits;
@@ -201,6 +203,8 @@ void TrackerNodelet::waitForTransforms(const sensor_msgs::Image& depth) {
   const ::ros::Duration wait(0.05);
   tf_buffer_->canTransform(odom_frame_, base_frame_, depth.header.stamp, wait);
   tf_buffer_->canTransform(odom_frame_, depth.header.frame_id, depth.header.stamp, wait);
+  if (external_localization_)
+    tf_buffer_->canTransform(map_frame_, odom_frame_, depth.header.stamp, wait);
 }
 
 // Written when a class got a new track: rare, and the file is tiny.
@@ -263,7 +267,7 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
   objects_pub_.publish(objects);
   graph_pub_.publish(graph);
   markers_pub_.publish(markers(r, header));
-  if (publish_map_odom_) {
+  if (publish_map_odom_ && r.localized) {  // only a converged localization speaks for the map
     geometry_msgs::TransformStamped tf;
     tf.header = header, tf.child_frame_id = odom_frame_;
     tf.transform = toTransform(r.T_map_odom);
@@ -386,7 +390,14 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
   if (r) {
     kv("objects", std::to_string(r->objects.size()));
     kv("frame_ms", std::to_string(r->times.total_ms));
-    kv("localized", r->localized ? "yes" : "no");
+    if (external_localization_)
+      kv("localized", external_pose_ok_ ? "yes (external)" : "no (no map to odom in TF)");
+    else
+      kv("localized", r->localized ? "yes" : "no");
+    if (!external_localization_) {
+      kv("localization_inlier_ratio", std::to_string(r->localization.inlier_ratio));
+      kv("localization_rmse_mm", std::to_string(1000.0 * r->localization.rmse));
+    }
   }
   array.status.push_back(s);
   diagnostics_pub_.publish(array);
@@ -400,6 +411,10 @@ void TrackerNodelet::onReconfigure(scene_graph_tracker::TrackerConfig& c, std::u
   dynamic_reconfigure::Config values;
   c.__toMessage__(values);
   fromReconfigure(params::trackerSchema(), values, after);
+  if (external_localization_ && after.pipeline.localize) {
+    after.pipeline.localize = false;
+    warn("localize stays off: the localization is external");
+  }
   std::string changed;
   for (const auto& p : params::trackerSchema())
     if (p.runtime && p.get(after) != p.get(before))

@@ -6,6 +6,7 @@
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <std_srvs/Empty.h>
 
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "tracker_node_fixture.hpp"
@@ -103,15 +104,39 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   EXPECT_EQ(matched, 5u);
 }
 
-// tracker_compressed.test: the node reads depth as compressedDepth (image_transport's plugin where
-// it is installed, else its own decoder) and tracks as from raw images; a message that does not
-// decode is warned about.
-TEST_F(TrackerNodeTest, TracksFromCompressedDepth) {
-  ASSERT_TRUE(compressed_) << "run by tracker_compressed.test (~depth_transport compressedDepth)";
+// With its own localization the tracker takes the robot's pose from initialpose (rviz "2D Pose
+// Estimate"): told the robot stands 10 cm further along x, it moves map -> odom by that much (no
+// LiDAR here, so nothing corrects it), starts the tracks over, and the objects appear moved with
+// it. Its map -> odom is
+// published only while the localization has converged: never here.
+TEST_F(TrackerNodeTest, InitialPoseSetsTheMapPose) {
+  run(6, true);
+  geometry_msgs::PoseWithCovarianceStamped estimate;
+  estimate.header.frame_id = "map", estimate.header.stamp = ::ros::Time::now();
+  Eigen::Isometry3d claimed = T_map_base_;
+  claimed.translation().x() += 0.1;
+  estimate.pose.pose = ros::toPose(claimed);
+  initialpose_pub_.publish(estimate);
+  run(12, true);
+  std::size_t matched = 0;
+  EXPECT_LT(worstError(matched, Eigen::Vector3d(0.1, 0.0, 0.0)), 0.01);
+  EXPECT_EQ(matched, 5u);
+  EXPECT_EQ(foreign_map_odom_, 0u) << "map -> odom published without a converged localization";
+  std_srvs::Empty reset;  // map -> odom back to identity for the next test
+  ASSERT_TRUE(::ros::service::call("/tracker/reset", reset));
+}
+
+// tracker_robot.test, as on a Tiago with amcl: depth as compressedDepth (image_transport's plugin
+// where it is installed, else the node's own decoder) and map -> odom from TF, 36 cm and 8.6 deg
+// away from the odometry. The tracks sit on the truth in the map, the tracker publishes no
+// map -> odom, and a message that does not decode is warned about.
+TEST_F(TrackerNodeTest, TracksFromCompressedDepthWithExternalLocalization) {
+  ASSERT_TRUE(compressed_ && external_) << "run by tracker_robot.test";
   run(8, true);
   std::size_t matched = 0;
   EXPECT_LT(worstError(matched), 0.005);
   EXPECT_EQ(matched, 5u);
+  EXPECT_EQ(foreign_map_odom_, 0u) << "the tracker published map -> odom";
   sensor_msgs::CompressedImage broken;
   broken.header.stamp = ::ros::Time::now(), broken.header.frame_id = "camera";
   broken.format = "16UC1; compressedDepth png";

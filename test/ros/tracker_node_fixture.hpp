@@ -4,6 +4,7 @@
 #pragma once
 
 #include <dynamic_reconfigure/Reconfigure.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -11,6 +12,7 @@
 #include <scene_graph_tracker/TrackedObjectArray.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
@@ -67,8 +69,14 @@ class TrackerNodeTest : public ::testing::Test {
     depth_ = depthImage(simulate(world_, *rays_, T_map_base_ * T_base_camera_), *rays_);
 
     depth_pub_ = nh_.advertise<sensor_msgs::Image>("/test/depth", 5);
-    // tracker_compressed.test: the node reads compressedDepth (<topic>/compressedDepth).
+    // tracker_robot.test: the node reads compressedDepth (<topic>/compressedDepth) and takes
+    // map -> odom from TF, which this fixture then publishes (odom away from map).
     compressed_ = ::ros::param::param<std::string>("~depth_transport", "raw") == "compressedDepth";
+    external_ = ::ros::param::param<std::string>("~localization", "own") == "external";
+    if (external_) T_map_odom_ = pose(Eigen::Vector3d(0.3, -0.2, 0.0), 0.15);
+    initialpose_pub_ =
+        nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("/initialpose", 1, true);
+    tf_sub_ = nh_.subscribe("/tf", 100, &TrackerNodeTest::onTf, this);
     depth_compressed_pub_ =
         nh_.advertise<sensor_msgs::CompressedImage>("/test/depth/compressedDepth", 5);
     info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("/test/camera_info", 5);
@@ -99,8 +107,14 @@ class TrackerNodeTest : public ::testing::Test {
     if (stamp.isZero()) stamp = ::ros::Time::now();
     geometry_msgs::TransformStamped odom;
     odom.header.stamp = stamp, odom.header.frame_id = "odom", odom.child_frame_id = "base_link";
-    odom.transform = ros::toTransform(T_map_base_);
+    odom.transform = ros::toTransform(T_map_odom_.inverse() * T_map_base_);
     tf_.sendTransform(odom);
+    if (external_) {  // as amcl would
+      geometry_msgs::TransformStamped map_odom;
+      map_odom.header.stamp = stamp, map_odom.header.frame_id = "map";
+      map_odom.child_frame_id = "odom", map_odom.transform = ros::toTransform(T_map_odom_);
+      tf_.sendTransform(map_odom);
+    }
     ::ros::Duration(0.02).sleep();  // let the transform arrive before the image
     sensor_msgs::Image img = ros::depthToImage(depth, cam_.width, cam_.height);
     img.encoding = encoding;
@@ -141,7 +155,9 @@ class TrackerNodeTest : public ::testing::Test {
   }
 
   // Largest translation error of the tracked objects against the truth, matching by class.
-  double worstError(std::size_t& matched) const {
+  // `shift`: where the truth is expected, moved in the map frame.
+  double worstError(std::size_t& matched,
+                    const Eigen::Vector3d& shift = Eigen::Vector3d::Zero()) const {
     double worst = 0.0;
     matched = 0;
     if (!objects_) return 1e9;
@@ -149,8 +165,8 @@ class TrackerNodeTest : public ::testing::Test {
       for (const auto& o : objects_->objects)
         if (o.class_name == cls) {
           ++matched;
-          worst =
-              std::max(worst, (ros::toEigen(o.pose.pose).translation() - T.translation()).norm());
+          worst = std::max(
+              worst, (ros::toEigen(o.pose.pose).translation() - T.translation() - shift).norm());
         }
     return worst;
   }
@@ -197,6 +213,13 @@ class TrackerNodeTest : public ::testing::Test {
     objects_ = m, ++objects_count_;
   }
   void onMarkers(const visualization_msgs::MarkerArrayConstPtr& m) { markers_ = m; }
+  // map -> odom from anyone but this test (the tracker publishes it only with its own
+  // localization converged).
+  void onTf(const ::ros::MessageEvent<tf2_msgs::TFMessage const>& e) {
+    if (e.getPublisherName() == ::ros::this_node::getName()) return;
+    for (const auto& t : e.getMessage()->transforms)
+      foreign_map_odom_ += t.child_frame_id == "odom";
+  }
   void onPoints(const sensor_msgs::PointCloud2ConstPtr& m) {
     unassigned_ = std::max<std::size_t>(unassigned_, m->width * m->height);
   }
@@ -208,14 +231,17 @@ class TrackerNodeTest : public ::testing::Test {
   RaycastScene world_;
   ObjectCatalog catalog_;
   std::vector<std::pair<std::string, Eigen::Isometry3d>> truth_;
-  Eigen::Isometry3d T_map_base_, T_base_camera_;
+  Eigen::Isometry3d T_map_base_, T_base_camera_, T_map_odom_ = Eigen::Isometry3d::Identity();
   PinholeModel cam_;
   std::shared_ptr<SensorRays> rays_;
   std::vector<float> depth_;
   std::mt19937 rng_{3};
   std::normal_distribution<double> g_;
   ::ros::Publisher depth_pub_, depth_compressed_pub_, info_pub_, hyp_pub_, cloud_pub_;
-  bool compressed_ = false;
+  bool compressed_ = false, external_ = false;
+  ::ros::Publisher initialpose_pub_;
+  ::ros::Subscriber tf_sub_;
+  std::size_t foreign_map_odom_ = 0;
   ::ros::Subscriber objects_sub_, markers_sub_, points_sub_, rosout_sub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;

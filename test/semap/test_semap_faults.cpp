@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <pqxx/pqxx>
 #include <thread>
 
@@ -64,6 +65,20 @@ class Feeder {
   std::thread thread_;
 };
 
+// A connection to the store; after a killed backend the server may still be recovering (it
+// refuses connections until then): retried for up to 30 s.
+std::unique_ptr<semap::SemapDb> connectWhenReady(const test::PgServer& pg) {
+  const auto until = Clock::now() + std::chrono::seconds(30);
+  for (;;) {
+    try {
+      return std::make_unique<semap::SemapDb>(pg.settings());
+    } catch (const pqxx::broken_connection&) {
+      if (Clock::now() > until) throw;
+      std::this_thread::sleep_for(milliseconds(100));
+    }
+  }
+}
+
 // Every frame is written, dropped or rejected, and the database holds exactly the written ones.
 void expectAccounted(const semap::SemapWriter& writer, const test::PgServer& pg,
                      std::size_t pushed) {
@@ -71,10 +86,10 @@ void expectAccounted(const semap::SemapWriter& writer, const test::PgServer& pg,
   const semap::WriterStats s = writer.stats();
   EXPECT_EQ(s.pushed, pushed);
   EXPECT_EQ(s.pushed, s.written + s.dropped + s.rejected);
-  semap::SemapDb db(pg.settings());
-  EXPECT_EQ(db.query("SELECT count(DISTINCT stamp) FROM pose_history")[0][0],
+  const std::unique_ptr<semap::SemapDb> db = connectWhenReady(pg);
+  EXPECT_EQ(db->query("SELECT count(DISTINCT stamp) FROM pose_history")[0][0],
             std::to_string(s.written));
-  EXPECT_EQ(db.query("SELECT count(*) FROM pose_history")[0][0], std::to_string(3 * s.written));
+  EXPECT_EQ(db->query("SELECT count(*) FROM pose_history")[0][0], std::to_string(3 * s.written));
   std::printf(
       "[ semap faults ] pushed %zu: written %zu, dropped %zu, rejected %zu (%zu replayed); "
       "%zu connections, %zu failed attempts\n",

@@ -64,6 +64,8 @@ struct TrackerNodeOptions {
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
   bool publish_map_odom = true;
+  // own: ray-cast localization against the static map; external: map -> odom from TF (amcl).
+  std::string localization = "own";
   bool publish_object_tf = false;
   double hypothesis_max_age = 0.1;
   double max_time_jitter = 1.0;         // s (ros/stamp_order.hpp)

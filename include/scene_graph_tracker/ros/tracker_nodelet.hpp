@@ -15,6 +15,7 @@
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/server.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
@@ -40,6 +41,7 @@
 #include <mutex>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
 #include "scene_graph_tracker/ros/image_input.hpp"
 #include "scene_graph_tracker/ros/stamp_order.hpp"
@@ -61,6 +63,10 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onUndecodable(const std::string& text);
   void onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg);
+  // Localization modes (tracker_localization.cpp).
+  void setUpLocalization(const params::TrackerNodeOptions& node, PipelineOptions& options);
+  void onInitialPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
+  void applyExternalLocalization(const ::ros::Time& stamp);  // under mutex_
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&);
   bool onAddTrack(scene_graph_tracker::AddTrack::Request& req,
                   scene_graph_tracker::AddTrack::Response& res);
@@ -87,6 +93,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   std::mutex mutex_;  // pipeline_ and assembler_
   std::string map_frame_, odom_frame_, base_frame_;
   bool publish_map_odom_{}, publish_object_tf_{};  // params::TrackerNodeOptions (onInit)
+  bool external_localization_{};                   // localization: external
+  bool external_pose_ok_{};  // the last frame found map -> odom in TF (external localization)
   StampOrder stamps_;
   // What came in and what became of it, in /diagnostics.
   struct Counts {
@@ -105,7 +113,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   ImageInput depth_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
-  ::ros::Subscriber cloud_sub_, hypotheses_sub_;
+  ::ros::Subscriber cloud_sub_, hypotheses_sub_, initialpose_sub_;
   ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, diagnostics_pub_;
   ::ros::ServiceServer reset_srv_, add_srv_, remove_srv_;
   std::unique_ptr<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>> reconfigure_;

@@ -117,8 +117,12 @@ Schema<T> nodeParams() {
       text<T>("odom_frame", kNode, NODE(odom_frame), true,
               "the odometry frame; the tracker corrects map to odom"),
       text<T>("base_frame", kNode, NODE(base_frame), true, "the robot base frame"),
+      text<T>("localization", kNode, NODE(localization), true,
+              "own: localize against the static map (map to odom published while converged); "
+              "external: map to odom from TF, e.g. amcl (nothing published)"),
       flag<T>("publish_map_odom", kNode, NODE(publish_map_odom), kStart,
-              "broadcast the map to odom correction of the localization"),
+              "broadcast the map to odom correction of the own localization while it is "
+              "converged"),
       flag<T>("publish_object_tf", kNode, NODE(publish_object_tf), kStart,
               "broadcast the frame of each track below its scene-graph parent (map or the track "
               "it is in or on)"),
