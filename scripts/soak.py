@@ -4,28 +4,33 @@
 Usage: soak.py --tools DIR --bag BAG --output DIR [--minutes 30] [--rate 3] [--period 10]
 
 Starts a SEMAP database (scripts/semap-db.sh, in OUTPUT/db) and a roscore of its own, then
-replay.launch (loop, no rviz, semap). Every PERIOD s it samples each node's RSS, open file
-descriptors and threads (/proc), the nodes' counters on /diagnostics (frames, tracks, frame time,
-the bridge's queue and rows) and the database size. Writes OUTPUT/soak.json:
+replay.launch (loop, no rviz, semap; the bag plays once the tracker has subscribed). Every PERIOD
+s it samples each node's RSS, open file descriptors and threads (/proc), the nodes' counters on
+/diagnostics (frames, tracks, frame time, the bridge's queue and rows) and the database size.
+Writes OUTPUT/soak.json:
   {minutes, samples: [...], rss_growth_after_warmup: {node: fraction}, fds_growth: {node: n},
    crashes, frames_in, frames_out, dropped_counted, frames_published, dropped_uncounted,
-   db_rows_expected, db_rows_found}
-frames_published counts the depth images the player sent (seen by this script's own subscriber);
-frames_in those that reached the tracker's frame callback, frames_out those it processed;
-dropped_counted every depth image the tracker knows it lost: those it received and dropped with a
-count (duplicates, out of order, skipped, failed), those its camera_info synchronisation never
-matched (depth_received - frames_in) and those lost in the ROS queue before it (depth_lost_before,
-from gaps in header.seq); dropped_uncounted = frames_published - frames_out - dropped_counted
-(images lost at the end of a sequence, before the bag loops, leave no gap). At the end the bag is
-paused and the counters are read once the bridge has written its backlog. Exit status 1 when a
-node crashed, our nodes' RSS grew by 5 % or more after the warm-up (2 min), or the database rows
-differ from the rows the bridge wrote.
+   probe_missed, db_rows_expected, db_rows_found}
+frames_published counts the depth images the player sent: those this script's own subscriber saw
+(it reads only header.seq) and the gaps in their seq (probe_missed). frames_in counts those that
+reached the tracker's frame callback, frames_out those it processed. dropped_counted is every
+depth image the tracker knows it lost:
+- those it received and dropped with a count (duplicates, out of order, skipped, failed);
+- those that never reached its frame callback (depth_received - frames_in): superseded in its
+  input buffer while it was behind, or never matched by the camera_info synchronisation;
+- those lost before it (depth_lost_before, from gaps in header.seq).
+dropped_uncounted = frames_published - frames_out - dropped_counted, which should be 0 (below 0,
+images were counted twice). At the end the bag is paused and the counters are read once the
+bridge has written its backlog. Exit status 1 when a node crashed, our nodes' RSS grew by 5 % or
+more after the warm-up (2 min), a dropped image was not counted, or the database rows differ from
+the rows the bridge wrote.
 """
 import argparse
 import json
 import os
 import signal
 import socket
+import struct
 import subprocess
 import sys
 import threading
@@ -85,13 +90,16 @@ class Listener:
     def __init__(self, depth_topic):
         import rospy
         from diagnostic_msgs.msg import DiagnosticArray
-        from sensor_msgs.msg import Image
         rospy.init_node("soak_probe", anonymous=True, disable_signals=True)
         self.lock = threading.Lock()
         self.status = {}
         self.depth_images = 0
+        self.missed = 0  # gaps in header.seq of the images this probe saw: its own losses
+        self.last_seq = None
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=50)
-        rospy.Subscriber(depth_topic, Image, self.on_depth, queue_size=1000, buff_size=2 ** 27)
+        # Undecoded (AnyMsg): the probe only reads header.seq, so it keeps up with the player.
+        rospy.Subscriber(depth_topic, rospy.AnyMsg, self.on_depth, queue_size=1000,
+                         buff_size=2 ** 27)
 
     def on_diagnostics(self, msg):
         with self.lock:
@@ -104,13 +112,19 @@ class Listener:
                         values[kv.key] = kv.value
                 self.status[s.name] = values
 
-    def on_depth(self, _):
+    def on_depth(self, msg):
+        seq = struct.unpack_from("<I", msg._buff, 0)[0]  # a Header comes first: seq, stamp, frame
         with self.lock:
             self.depth_images += 1
+            if self.last_seq is not None and seq > self.last_seq + 1:
+                self.missed += seq - self.last_seq - 1
+            self.last_seq = seq
 
     def snapshot(self):
+        """(diagnostics, images published: those seen and those the probe missed)."""
         with self.lock:
-            return {k: dict(v) for k, v in self.status.items()}, self.depth_images
+            return ({k: dict(v) for k, v in self.status.items()},
+                    self.depth_images + self.missed)
 
 
 def db_query(db_dir, port, sql):
@@ -146,6 +160,24 @@ def drain(listener, env, limit_s=600.0):
         last = snap
 
 
+def play_when_subscribed(depth_topic, env, limit_s=120.0):
+    """Unpauses the player once a node besides this probe subscribes to the depth images (the
+    tracker is up), so that no image is published before the tracker can count it."""
+    import rosgraph
+    master = rosgraph.Master("/soak")
+    start = time.time()
+    while time.time() - start < limit_s:
+        subscribers = dict(master.getSystemState()[1]).get(depth_topic, [])
+        if [n for n in subscribers if not n.startswith("/soak_probe")]:
+            break
+        time.sleep(0.5)
+    else:
+        raise SystemExit("soak: nothing subscribed to %s within %g s" % (depth_topic, limit_s))
+    time.sleep(2.0)  # the connections to the player
+    subprocess.run(["rosservice", "call", "/player/pause_playback", "false"], env=env,
+                   stdout=subprocess.DEVNULL, check=True)
+
+
 def stop_launch(launch):
     """SIGINT to roslaunch's process group, SIGKILL after 30 s; it may have ended already."""
     try:
@@ -177,7 +209,7 @@ def main():
     launch = subprocess.Popen(
         ["roslaunch", "-p", str(ros_port), "scene_graph_tracker", "replay.launch",
          "bag:=" + os.path.abspath(a.bag), "rviz:=false", "loop:=true", "semap:=true",
-         "rate:=%g" % a.rate, "semap_db_dir:=" + db_dir, "semap_db_port:=%d" % db_port],
+         "rate:=%g" % a.rate, "paused:=true", "semap_db_dir:=" + db_dir, "semap_db_port:=%d" % db_port],
         stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
     samples, crashes, seen = [], 0, {}
     try:
@@ -189,6 +221,7 @@ def main():
                 break
             time.sleep(0.2)
         listener = Listener(a.depth_topic)
+        play_when_subscribed(a.depth_topic, env)
         start = time.time()
         while time.time() - start < 60.0 * a.minutes:
             time.sleep(a.period)
@@ -240,7 +273,8 @@ def main():
         "crashes": crashes,
         "frames_published": published, "frames_in": frames_in,
         "frames_out": frames_out, "dropped_counted": dropped,
-        "dropped_uncounted": max(0, published - frames_out - dropped),
+        "dropped_uncounted": published - frames_out - dropped,  # < 0: counted twice
+        "probe_missed": listener.missed,
         "db_rows_expected": int(bridge.get("pose_rows", -1)),
         "db_rows_found": int(rows) if rows and rows.isdigit() else -1,
         "bridge": bridge,
@@ -248,6 +282,7 @@ def main():
     with open(os.path.join(a.output, "soak.json"), "w") as f:
         json.dump(report, f, indent=1)
     ok = (crashes == 0 and report["db_rows_expected"] == report["db_rows_found"] and
+          report["dropped_uncounted"] == 0 and
           all(g is not None and g < 0.05 for n, g in report["rss_growth_after_warmup"].items()
               if n in OURS and a.minutes * 60 > WARMUP_S + 2 * a.period))
     print("soak: %d crashes; frames %d published, %d in, %d out, %d dropped (counted), %d not "

@@ -385,7 +385,8 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
                                {"hypotheses_over_limits", c.hypotheses_over_limits},
                                {"hypotheses_duplicate", c.hypotheses_duplicate},
                                {"depth_received", depth_sub_.received()},
-                               {"depth_lost_before", depth_sub_.lost()}})
+                               {"depth_lost_before", depth_sub_.lost()},
+                               {"depth_superseded", depth_sub_.superseded()}})
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));

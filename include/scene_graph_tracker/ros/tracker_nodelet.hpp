@@ -52,6 +52,7 @@ namespace sgt::ros {
 
 class TrackerNodelet : public nodelet::Nodelet {
  public:
+  ~TrackerNodelet() override { depth_sub_.shutdown(); }  // before sync_, which it feeds, goes
   void onInit() override;
 
  private:
