@@ -4,6 +4,7 @@
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -137,23 +138,29 @@ namespace {
 // is rejected with a reason, never read out of bounds.
 struct CloudLayout {
   std::uint32_t offset[3] = {0, 0, 0};
+  bool float64 = false;  // x, y, z are FLOAT64 (else FLOAT32)
   std::size_t points = 0;
 };
 
 CloudLayout cloudLayout(const sensor_msgs::PointCloud2& cloud) {
   CloudLayout l;
-  bool has[3] = {false, false, false};
+  int type[3] = {0, 0, 0};
   for (const auto& f : cloud.fields)
     for (int k = 0; k < 3; ++k)
       if (f.name == std::string(1, "xyz"[k])) {
-        if (f.datatype != sensor_msgs::PointField::FLOAT32)
-          throw ConversionError("point cloud field '" + f.name + "' is not float32");
-        if (std::uint64_t(f.offset) + 4 > cloud.point_step)
+        if (f.datatype != sensor_msgs::PointField::FLOAT32 &&
+            f.datatype != sensor_msgs::PointField::FLOAT64)
+          throw ConversionError("point cloud field '" + f.name +
+                                "' is neither float32 nor float64");
+        const unsigned size = f.datatype == sensor_msgs::PointField::FLOAT64 ? 8 : 4;
+        if (std::uint64_t(f.offset) + size > cloud.point_step)
           throw ConversionError("point cloud field '" + f.name + "' lies beyond point_step");
-        has[k] = true, l.offset[k] = f.offset;
+        type[k] = f.datatype, l.offset[k] = f.offset;
       }
-  if (!has[0] || !has[1] || !has[2])
-    throw ConversionError("point cloud has no x, y, z float32 fields");
+  if (!type[0] || !type[1] || !type[2]) throw ConversionError("point cloud has no x, y, z fields");
+  if (type[0] != type[1] || type[1] != type[2])
+    throw ConversionError("point cloud fields x, y, z are of different types");
+  l.float64 = type[0] == sensor_msgs::PointField::FLOAT64;
   const std::uint64_t row = std::uint64_t(cloud.width) * cloud.point_step;
   if (cloud.height > 0 && cloud.width > 0 && cloud.row_step < row)
     throw ConversionError("point cloud row_step is shorter than width x point_step");
@@ -165,45 +172,94 @@ CloudLayout cloudLayout(const sensor_msgs::PointCloud2& cloud) {
   return l;
 }
 
-float readFloat(const std::uint8_t* p, bool swap) {
-  std::uint8_t b[4] = {p[0], p[1], p[2], p[3]};
-  if (swap) std::swap(b[0], b[3]), std::swap(b[1], b[2]);
-  float v;
+// A value in the message's byte order, as the host's.
+template <typename T>
+T readValue(const std::uint8_t* p, bool swap) {
+  std::uint8_t b[sizeof(T)];
+  std::memcpy(b, p, sizeof b);
+  if (swap) std::reverse(b, b + sizeof b);
+  T v;
   std::memcpy(&v, b, sizeof v);
   return v;
 }
 
+// Point i of the cloud in its frame.
+Eigen::Vector3f cloudPoint(const sensor_msgs::PointCloud2& cloud, const CloudLayout& l,
+                           std::size_t i, bool swap) {
+  const std::uint8_t* p = cloud.data.data() + (i / cloud.width) * std::size_t(cloud.row_step) +
+                          (i % cloud.width) * std::size_t(cloud.point_step);
+  Eigen::Vector3f v;
+  for (int k = 0; k < 3; ++k)
+    v[k] = l.float64 ? static_cast<float>(readValue<double>(p + l.offset[k], swap))
+                     : readValue<float>(p + l.offset[k], swap);
+  return v;
+}
+
+bool swapped(const sensor_msgs::PointCloud2& cloud) {
+  return cloud.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
+}
+
 }  // namespace
 
-std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
-                                   const SpinningLidarModel& model) {
+bool matchesGrid(const sensor_msgs::PointCloud2& cloud, const SpinningLidarModel& grid) {
+  return cloud.height == static_cast<std::uint32_t>(grid.rings) &&
+         cloud.width == static_cast<std::uint32_t>(grid.columns);
+}
+
+RangeMeasurements measurementsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                        const SpinningLidarModel& grid,
+                                        std::shared_ptr<const SensorRays> grid_rays,
+                                        const Eigen::Isometry3d& T_world_sensor) {
   const CloudLayout l = cloudLayout(cloud);
-  const std::size_t size = static_cast<std::size_t>(model.columns) * model.rings;
-  std::vector<float> ranges(size, std::numeric_limits<float>::quiet_NaN());
-  const bool organized = cloud.height == static_cast<std::uint32_t>(model.rings) &&
-                         cloud.width == static_cast<std::uint32_t>(model.columns);
-  const bool swap = cloud.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
-  const double phi_inc = model.phiInc() > 0 ? model.phiInc() : 1.0;
-  for (std::size_t i = 0; i < l.points; ++i) {
-    const std::uint8_t* p = cloud.data.data() + (i / cloud.width) * std::size_t(cloud.row_step) +
-                            (i % cloud.width) * std::size_t(cloud.point_step);
-    const float x = readFloat(p + l.offset[0], swap), y = readFloat(p + l.offset[1], swap),
-                z = readFloat(p + l.offset[2], swap);
-    const float r = std::sqrt(x * x + y * y + z * z);
-    if (!std::isfinite(r) || r <= 0.0f) continue;
-    std::size_t cell = i;
-    if (!organized) {
-      const int ring = static_cast<int>(
-          std::lround((std::atan2(z, std::hypot(x, y)) - model.phi_min) / phi_inc));
-      int col =
-          static_cast<int>(std::lround((std::atan2(y, x) - model.theta_min) / model.theta_inc));
-      col = ((col % model.columns) + model.columns) % model.columns;
-      if (ring < 0 || ring >= model.rings) continue;
-      cell = static_cast<std::size_t>(ring) * model.columns + col;
+  const bool swap = swapped(cloud);
+  const std::string& sensor = cloud.header.frame_id;
+  if (matchesGrid(cloud, grid)) {
+    std::vector<float> ranges(l.points, std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t i = 0; i < l.points; ++i) {
+      const Eigen::Vector3f p = cloudPoint(cloud, l, i, swap);
+      const float r = std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z());
+      if (std::isfinite(r) && r > 0.0f) ranges[i] = r;
     }
-    if (!(ranges[cell] <= r)) ranges[cell] = r;  // NaN or farther: the nearest return wins
+    return fromRanges(grid, std::move(grid_rays), std::move(ranges), T_world_sensor, sensor);
   }
-  return ranges;
+  std::vector<Eigen::Vector3f> directions;
+  std::vector<float> ranges;
+  directions.reserve(l.points), ranges.reserve(l.points);
+  for (std::size_t i = 0; i < l.points; ++i) {
+    const Eigen::Vector3f p = cloudPoint(cloud, l, i, swap);
+    const float r = p.norm();
+    if (!std::isfinite(r) || !(r > 0.0f)) continue;  // no return: no ray
+    directions.push_back(p / r), ranges.push_back(r);
+  }
+  auto rays = std::make_shared<SensorRays>(
+      makeRays(std::move(directions), {}, grid.range_min, grid.range_max));
+  return fromRanges(PointRays{}, std::move(rays), std::move(ranges), T_world_sensor, sensor);
+}
+
+RangeMeasurements measurementsFromScan(const sensor_msgs::LaserScan& scan,
+                                       const Eigen::Isometry3d& T_world_sensor) {
+  if (!std::isfinite(scan.angle_min) || !std::isfinite(scan.angle_increment) ||
+      scan.angle_increment == 0.0f)
+    throw ConversionError("laser scan with a non-finite or zero angle step");
+  if (!(scan.range_min >= 0.0f) || !(scan.range_min < scan.range_max))
+    throw ConversionError("laser scan whose range_min is not below range_max");
+  constexpr std::size_t kMaxBeams = 1 << 20;
+  if (scan.ranges.size() > kMaxBeams) throw ConversionError("laser scan with over 2^20 beams");
+  std::vector<Eigen::Vector3f> directions(scan.ranges.size());
+  std::vector<float> ranges(scan.ranges.size());
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double a = double(scan.angle_min) + double(i) * scan.angle_increment;
+    directions[i] =
+        Eigen::Vector3f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
+    const float r = scan.ranges[i];  // beyond [range_min, range_max]: no return
+    ranges[i] = std::isfinite(r) && r >= scan.range_min && r <= scan.range_max
+                    ? r
+                    : std::numeric_limits<float>::quiet_NaN();
+  }
+  auto rays = std::make_shared<SensorRays>(
+      makeRays(std::move(directions), {}, scan.range_min, scan.range_max));
+  return fromRanges(PointRays{}, std::move(rays), std::move(ranges), T_world_sensor,
+                    scan.header.frame_id);
 }
 
 sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const SensorRays& rays,

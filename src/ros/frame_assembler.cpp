@@ -28,6 +28,10 @@ void FrameAssembler::addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud) {
   if (cloud) pushRecent(clouds_, cloud, options_.max_buffered_clouds);
 }
 
+void FrameAssembler::addLaserScan(const sensor_msgs::LaserScan::ConstPtr& scan) {
+  if (scan) pushRecent(laser_scans_, scan, options_.max_buffered_clouds);
+}
+
 void FrameAssembler::addHypotheses(
     const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses) {
   if (hypotheses) pushRecent(hypotheses_, hypotheses, options_.max_buffered_hypotheses);
@@ -35,6 +39,7 @@ void FrameAssembler::addHypotheses(
 
 void FrameAssembler::clear() {
   clouds_.clear();
+  laser_scans_.clear();
   hypotheses_.clear();
 }
 
@@ -45,6 +50,7 @@ AssembledFrame FrameAssembler::assemble(const sensor_msgs::Image& depth,
   addDepth(out, depth, info);
   addHypothesesOf(out, depth);
   addScan(out, depth.header.stamp);
+  addLaserScan(out, depth.header.stamp);
   return out;
 }
 
@@ -85,19 +91,43 @@ void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Ima
                     hypotheses_.end());
 }
 
+namespace {
+
+// The newest message not later than `stamp`; it and the older ones leave the buffer.
+template <typename Ptr>
+Ptr takeNewest(std::deque<Ptr>& buffer, const ::ros::Time& stamp) {
+  Ptr newest;
+  while (!buffer.empty() && buffer.front()->header.stamp <= stamp)
+    newest = buffer.front(), buffer.pop_front();
+  return newest;
+}
+
+}  // namespace
+
 void FrameAssembler::addScan(AssembledFrame& out, const ::ros::Time& stamp) {
-  sensor_msgs::PointCloud2::ConstPtr cloud;
-  while (!clouds_.empty() && clouds_.front()->header.stamp <= stamp)
-    cloud = clouds_.front(), clouds_.pop_front();
+  const sensor_msgs::PointCloud2::ConstPtr cloud = takeNewest(clouds_, stamp);
   if (!cloud) return;
   try {
     const ::ros::Time& t = cloud->header.stamp;
-    out.frame.measurements.push_back(fromRanges(
-        options_.lidar, lidar_rays_, rangesFromCloud(*cloud, options_.lidar),
-        lookup_(options_.odom_frame, cloud->header.frame_id, t), cloud->header.frame_id));
+    out.frame.measurements.push_back(
+        measurementsFromCloud(*cloud, options_.lidar, lidar_rays_,
+                              lookup_(options_.odom_frame, cloud->header.frame_id, t)));
     out.cloud = cloud;
   } catch (const std::exception& e) {
     out.warnings.push_back("LiDAR scan at " + std::to_string(cloud->header.stamp.toSec()) +
+                           " skipped: " + e.what());
+  }
+}
+
+void FrameAssembler::addLaserScan(AssembledFrame& out, const ::ros::Time& stamp) {
+  const sensor_msgs::LaserScan::ConstPtr scan = takeNewest(laser_scans_, stamp);
+  if (!scan) return;
+  try {
+    const ::ros::Time& t = scan->header.stamp;
+    out.frame.measurements.push_back(
+        measurementsFromScan(*scan, lookup_(options_.odom_frame, scan->header.frame_id, t)));
+  } catch (const std::exception& e) {
+    out.warnings.push_back("laser scan at " + std::to_string(scan->header.stamp.toSec()) +
                            " skipped: " + e.what());
   }
 }

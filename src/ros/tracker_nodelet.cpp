@@ -115,6 +115,7 @@ void TrackerNodelet::onInit() {
   sync_->registerCallback(boost::bind(&TrackerNodelet::onDepth, this, boost::placeholders::_1,
                                       boost::placeholders::_2));
   cloud_sub_ = nh.subscribe("points", 2, &TrackerNodelet::onCloud, this);
+  scan_sub_ = nh.subscribe("scan", 2, &TrackerNodelet::onLaserScan, this);
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
   // Run-time parameters start from the values loaded above (config/tracker.yaml).
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(
@@ -147,6 +148,11 @@ void TrackerNodelet::onUndecodable(const std::string& text) {
 void TrackerNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
   std::lock_guard<std::mutex> lock(mutex_);
   assembler_->addCloud(cloud);
+}
+
+void TrackerNodelet::onLaserScan(const sensor_msgs::LaserScanConstPtr& scan) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  assembler_->addLaserScan(scan);
 }
 
 void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg) {

@@ -1,8 +1,8 @@
-// PointCloud2 -> ranges (sgt::ros::rangesFromCloud): a cloud whose fields, offsets, datatypes,
-// point_step, row_step, width, height, endianness and data all come from the bytes, against a
-// LiDAR model from the tracker's parameters (assemblerOptions). The bytes: the layout (taken
-// from the end), then the point data (from the front). A consistent layout (row_step and data
-// sized to width x height) is picked often so the points themselves get read.
+// PointCloud2 -> ranges (sgt::ros::measurementsFromCloud): a cloud whose fields, offsets,
+// datatypes, point_step, row_step, width, height, endianness and data all come from the bytes,
+// against a LiDAR model from the tracker's parameters (assemblerOptions). The bytes: the layout
+// (taken from the end), then the point data (from the front). A consistent layout (row_step and
+// data sized to width x height) is picked often so the points themselves get read.
 #include <sensor_msgs/PointField.h>
 
 #include <algorithm>
@@ -75,9 +75,15 @@ int sgtFuzzCloud(const std::uint8_t* data, std::size_t size) {
     cloud.data = p.ConsumeRemainingBytes<std::uint8_t>();
   }
   try {
-    const std::vector<float> ranges = sgt::ros::rangesFromCloud(cloud, model);
-    sgt::fuzz::expect(ranges.size() == std::size_t(model.columns) * model.rings,
-                      "one range per ray of the model");
+    const auto rays = std::make_shared<const sgt::SensorRays>(sgt::makeRays(model));
+    const sgt::RangeMeasurements m =
+        sgt::ros::measurementsFromCloud(cloud, model, rays, Eigen::Isometry3d::Identity());
+    sgt::fuzz::expect(
+        m.size() == (sgt::ros::matchesGrid(cloud, model) ? std::size_t(model.columns) * model.rings
+                                                         : m.rays->size()),
+        "one range per ray: the grid's, or one per point");
+    for (std::size_t i = 0; i < m.size(); ++i)
+      sgt::fuzz::expect(!m.valid(i) || m.pointInSensor(i).allFinite(), "a finite point per return");
   } catch (const sgt::ros::ConversionError&) {
   }
   return 0;

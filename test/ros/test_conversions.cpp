@@ -1,15 +1,20 @@
 // Message <-> core conversions: round trips and the errors bad messages must give.
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <variant>
 
 #include "scene_graph_tracker/ros/conversions.hpp"
 
 namespace sgt::ros {
 namespace {
+
+const Eigen::Isometry3d kIdentity = Eigen::Isometry3d::Identity();
 
 TEST(Conversions, PoseRoundTrip) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -106,29 +111,85 @@ TEST(Conversions, BadDepthImagesAreRejectedWithAReason) {
 
 TEST(Conversions, LidarCloudOrganizedAndUnorganized) {
   const SpinningLidarModel model = SpinningLidarModel::vlp16();
-  const SensorRays rays = makeRays(model);
-  std::vector<float> ranges(rays.size(), std::numeric_limits<float>::quiet_NaN());
+  const auto rays = std::make_shared<const SensorRays>(makeRays(model));
+  std::vector<float> ranges(rays->size(), std::numeric_limits<float>::quiet_NaN());
   for (std::size_t i = 0; i < ranges.size(); i += 7) ranges[i] = 1.0f + 0.001f * (i % 1000);
-  const sensor_msgs::PointCloud2 cloud = cloudFromRanges(ranges, rays, {});
-  const std::vector<float> back = rangesFromCloud(cloud, model);
-  ASSERT_EQ(back.size(), ranges.size());
+  const sensor_msgs::PointCloud2 cloud = cloudFromRanges(ranges, *rays, {});
+  const RangeMeasurements grid = measurementsFromCloud(cloud, model, rays, kIdentity);
+  EXPECT_TRUE(std::holds_alternative<SpinningLidarModel>(grid.model));
+  EXPECT_EQ(grid.rays, rays);
+  ASSERT_EQ(grid.range.size(), ranges.size());
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     if (std::isfinite(ranges[i]))
-      EXPECT_NEAR(back[i], ranges[i], 1e-5f);
+      EXPECT_NEAR(grid.range[i], ranges[i], 1e-5f);
     else
-      EXPECT_TRUE(std::isnan(back[i]));
+      EXPECT_TRUE(std::isnan(grid.range[i]));
   }
-  // The same points as one unorganized row (like a driver that drops no-returns) bin back.
+  // The same points as one unorganized row: one ray per point with a return, through the point.
   sensor_msgs::PointCloud2 flat = cloud;
   flat.height = 1, flat.width = cloud.width * cloud.height,
   flat.row_step = flat.width * flat.point_step;
-  const std::vector<float> binned = rangesFromCloud(flat, model);
-  std::size_t same = 0, total = 0;
-  for (std::size_t i = 0; i < ranges.size(); ++i)
-    if (std::isfinite(ranges[i])) ++total, same += std::abs(binned[i] - ranges[i]) < 1e-4f;
-  EXPECT_EQ(same, total);
+  const RangeMeasurements points = measurementsFromCloud(flat, model, rays, kIdentity);
+  EXPECT_TRUE(std::holds_alternative<PointRays>(points.model));
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    if (!std::isfinite(ranges[i])) continue;
+    ASSERT_LT(k, points.size());
+    EXPECT_LT((points.pointInSensor(k) - rays->directions[i] * ranges[i]).norm(), 1e-5f);
+    ++k;
+  }
+  EXPECT_EQ(k, points.size());
   sensor_msgs::PointCloud2 no_xyz;
-  EXPECT_THROW(rangesFromCloud(no_xyz, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(no_xyz, model, rays, kIdentity), ConversionError);
+}
+
+TEST(Conversions, CloudsOfOtherScannersAndFloat64PointsGetARayPerPoint) {
+  sensor_msgs::PointCloud2 cloud;  // an Ouster-like 64 x 4 organized cloud of float64 points
+  cloud.height = 64, cloud.width = 4;
+  sensor_msgs::PointCloud2Modifier mod(cloud);
+  mod.setPointCloud2Fields(3, "x", 1, sensor_msgs::PointField::FLOAT64, "y", 1,
+                           sensor_msgs::PointField::FLOAT64, "z", 1,
+                           sensor_msgs::PointField::FLOAT64);
+  std::vector<Eigen::Vector3d> truth;
+  for (std::size_t i = 0; i < 256; ++i) {
+    const Eigen::Vector3d p(2.0 + 0.01 * i, -1.0 + 0.005 * i, i % 5 == 0 ? NAN : 0.3);
+    std::memcpy(cloud.data.data() + i * cloud.point_step, p.data(), 24);
+    if (p.allFinite()) truth.push_back(p);
+  }
+  const auto rays = std::make_shared<const SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  const RangeMeasurements m =
+      measurementsFromCloud(cloud, SpinningLidarModel::vlp16(), rays, kIdentity);
+  EXPECT_TRUE(std::holds_alternative<PointRays>(m.model));
+  ASSERT_EQ(m.size(), truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    EXPECT_LT((m.pointInSensor(i).cast<double>() - truth[i]).norm(), 1e-5);
+  sensor_msgs::PointCloud2 mixed = cloud;
+  mixed.fields[2].datatype = sensor_msgs::PointField::FLOAT32;
+  EXPECT_THROW(measurementsFromCloud(mixed, SpinningLidarModel::vlp16(), rays, kIdentity),
+               ConversionError);
+}
+
+TEST(Conversions, LaserScanBeamsBecomeRaysInTheScanPlane) {
+  sensor_msgs::LaserScan scan;
+  scan.header.frame_id = "base_laser_link";
+  scan.angle_min = -1.0f, scan.angle_increment = 0.5f, scan.range_min = 0.05f,
+  scan.range_max = 25.0f;
+  scan.ranges = {1.0f, 2.0f, NAN, 30.0f, 0.01f};  // the last three are no returns
+  const RangeMeasurements m = measurementsFromScan(scan, kIdentity);
+  ASSERT_EQ(m.size(), 5u);
+  EXPECT_EQ(m.validCount(), 2u);
+  EXPECT_LT((m.pointInSensor(0) - Eigen::Vector3f(std::cos(-1.0f), std::sin(-1.0f), 0)).norm(),
+            1e-6f);
+  EXPECT_LT(
+      (m.pointInSensor(1) - 2.0f * Eigen::Vector3f(std::cos(-0.5f), std::sin(-0.5f), 0)).norm(),
+      1e-6f);
+  EXPECT_EQ(m.sensor, "base_laser_link");
+  sensor_msgs::LaserScan bad = scan;
+  bad.angle_increment = 0.0f;
+  EXPECT_THROW(measurementsFromScan(bad, kIdentity), ConversionError);
+  bad = scan;
+  bad.range_max = NAN;
+  EXPECT_THROW(measurementsFromScan(bad, kIdentity), ConversionError);
 }
 
 // An organized cloud of `model` with a return of `range` on every ray.
@@ -141,22 +202,23 @@ TEST(Conversions, MalformedCloudsAreRejectedNotReadOutOfBounds) {
   SpinningLidarModel model;
   model.columns = 36, model.rings = 4, model.theta_inc = 2.0 * M_PI / 36;
   const sensor_msgs::PointCloud2 good = fullCloud(model, 2.0f);
-  ASSERT_EQ(rangesFromCloud(good, model).size(), 144u);
+  const auto rays = std::make_shared<const SensorRays>(makeRays(model));
+  ASSERT_EQ(measurementsFromCloud(good, model, rays, kIdentity).size(), 144u);
   sensor_msgs::PointCloud2 bad = good;
   bad.fields[2].offset = bad.point_step - 2;  // z straddles the end of the point
-  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(bad, model, rays, kIdentity), ConversionError);
   bad = good;
   bad.point_step = 0;
-  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(bad, model, rays, kIdentity), ConversionError);
   bad = good;
   bad.row_step = bad.width * bad.point_step - 1;
-  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(bad, model, rays, kIdentity), ConversionError);
   bad = good;
   bad.width = bad.height = 1u << 31;  // width x height x point_step wraps in 32 bits
-  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(bad, model, rays, kIdentity), ConversionError);
   bad = good;
   bad.data.resize(bad.data.size() - 1);
-  EXPECT_THROW(rangesFromCloud(bad, model), ConversionError);
+  EXPECT_THROW(measurementsFromCloud(bad, model, rays, kIdentity), ConversionError);
 }
 
 TEST(Conversions, CloudsWithPaddedRowsAndBigEndianDataReadBack) {
@@ -169,6 +231,7 @@ TEST(Conversions, CloudsWithPaddedRowsAndBigEndianDataReadBack) {
   for (std::uint32_t r = 0; r < good.height; ++r)
     std::copy_n(good.data.begin() + r * good.row_step, good.row_step,
                 padded.data.begin() + r * padded.row_step);
+  const auto rays = std::make_shared<const SensorRays>(makeRays(model));
   sensor_msgs::PointCloud2 big = good;  // every field byte-swapped
   big.is_bigendian = true;
   for (std::size_t p = 0; p + big.point_step <= big.data.size(); p += big.point_step)
@@ -176,7 +239,8 @@ TEST(Conversions, CloudsWithPaddedRowsAndBigEndianDataReadBack) {
       if (f.datatype == sensor_msgs::PointField::FLOAT32)
         std::reverse(big.data.begin() + p + f.offset, big.data.begin() + p + f.offset + 4);
   for (const sensor_msgs::PointCloud2* c : {&padded, &big}) {
-    const std::vector<float> r = rangesFromCloud(*c, model);
+    const std::vector<float> r = measurementsFromCloud(*c, model, rays, kIdentity).range;
+    ASSERT_EQ(r.size(), 144u);
     for (float v : r) EXPECT_NEAR(v, 2.0f, 1e-5f);
   }
 }

@@ -173,7 +173,11 @@ TEST_F(SimulateBag, ImagesAndLabelsAreConsistent) {
     const sensor_msgs::Image& l = vlabels[stamp];
     ASSERT_EQ(l.width, 1824u);
     ASSERT_EQ(l.height, 16u);
-    const std::vector<float> r = rangesFromCloud(cloud, SpinningLidarModel::vlp16());
+    const SpinningLidarModel vlp16 = SpinningLidarModel::vlp16();
+    const std::vector<float> r =
+        measurementsFromCloud(cloud, vlp16, std::make_shared<SensorRays>(makeRays(vlp16)),
+                              Eigen::Isometry3d::Identity())
+            .range;
     std::size_t objects = 0;
     for (std::size_t i = 0; i < r.size(); ++i) {
       EXPECT_EQ(l.data[i] == 0, !std::isfinite(r[i])) << "point " << i;

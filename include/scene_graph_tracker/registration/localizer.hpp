@@ -24,7 +24,8 @@ struct LocalizerOptions {
   float max_dist_min = 0.05f;  // the adaptive threshold never goes below (sensor noise + map error)
   float residual_factor = 3.0f;  // next threshold = factor x robust sigma of the inliers' residuals
   // Every image_stride-th pixel of depth images and every scan_stride-th column and ring of LiDAR
-  // scans is cast: the map constrains the robot from far fewer rays than the sensors measure.
+  // grids is cast: the map constrains the robot from far fewer rays than the sensors measure.
+  // Sets of one ray per return (PointRays: laser scans, unorganized clouds) are cast whole.
   int image_stride = 4;
   int scan_stride = 2;
   int min_inliers = 200;

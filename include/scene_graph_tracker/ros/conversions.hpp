@@ -7,6 +7,7 @@
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <Eigen/Geometry>
@@ -41,12 +42,24 @@ std::vector<float> depthFromImage(const sensor_msgs::Image& img, const PinholeMo
 cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam);
 sensor_msgs::Image depthToImage(const std::vector<float>& depth_m, int width, int height);  // 32FC1
 
-// A VLP-16 style cloud (fields x, y, z; optional intensity, ring) as ranges along the model's
-// rays. An organized cloud of the model's size keeps its order (rows = rings); any other cloud is
-// binned into the model's ring x column grid by each point's elevation and azimuth (the nearest
-// return wins). Throws when x/y/z are missing or not float32.
-std::vector<float> rangesFromCloud(const sensor_msgs::PointCloud2& cloud,
-                                   const SpinningLidarModel& model);
+// A range sensor's cloud (fields x, y, z, all float32 or all float64, in the cloud's frame, whose
+// origin is the sensor's; any byte order, point and row stride) as measurements along rays:
+// - a cloud organized as the configured `grid` (height = rings, width = columns, like the
+//   simulator's VLP-16) keeps its order on `grid_rays` (the grid's rays), NaN where no return;
+// - any other cloud (unorganized, a ring field, another scanner's rings: VLP-32C, Ouster, Hesai,
+//   Livox, Luminar) gets one ray per point with a finite, non-zero position, from the origin
+//   (model PointRays), with the grid's range limits.
+// Throws ConversionError on a malformed cloud.
+RangeMeasurements measurementsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                        const SpinningLidarModel& grid,
+                                        std::shared_ptr<const SensorRays> grid_rays,
+                                        const Eigen::Isometry3d& T_world_sensor);
+bool matchesGrid(const sensor_msgs::PointCloud2& cloud, const SpinningLidarModel& grid);
+// A planar laser scan (a Tiago's base laser on /scan) as one ray per beam in the scan's frame
+// (x forward, angles counter-clockwise about z); a range outside [range_min, range_max] or not
+// finite is no return. Throws ConversionError on a scan with no usable angles or limits.
+RangeMeasurements measurementsFromScan(const sensor_msgs::LaserScan& scan,
+                                       const Eigen::Isometry3d& T_world_sensor);
 // Organized rings x columns cloud with fields x, y, z, intensity (float32) and ring (uint16); NaN
 // points where there is no return.
 sensor_msgs::PointCloud2 cloudFromRanges(const std::vector<float>& ranges, const SensorRays& rays,

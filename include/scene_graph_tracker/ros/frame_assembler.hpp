@@ -2,16 +2,20 @@
 //
 // A frame is built for each depth image (with its CameraInfo). It gets:
 // - the odometry: odom -> base at the image's stamp, and odom -> sensor at each sensor's stamp;
-// - the LiDAR: the newest scan not later than the image, used once (older ones are dropped);
+// - the LiDAR: the newest cloud not later than the image, used once (older ones are dropped);
+//   likewise the newest planar laser scan (sensor_msgs/LaserScan), for localization;
 // - the pose hypotheses: the one array closest in time to the image within hypothesis_max_age (a
 //   detector emits one array per image; using every array in the window would count each object
 //   several times), moved into the base frame; arrays up to the image's stamp are then dropped.
-// The LiDAR's ray model comes from the options (configuration), the camera's from its CameraInfo.
+// The camera's ray model comes from its CameraInfo. A cloud organized as the configured LiDAR grid
+// (options) uses that grid's rays; any other cloud, and a laser scan, one ray per return
+// (conversions.hpp).
 #pragma once
 
 #include <scene_graph_tracker/PoseHypothesisArray.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <deque>
@@ -57,6 +61,7 @@ class FrameAssembler {
     return lookup_(target, source, stamp);
   }
   void addCloud(const sensor_msgs::PointCloud2::ConstPtr& cloud);
+  void addLaserScan(const sensor_msgs::LaserScan::ConstPtr& scan);
   void addHypotheses(const scene_graph_tracker::PoseHypothesisArray::ConstPtr& hypotheses);
   void clear();  // forget the buffered scans and hypotheses (time went back)
   // The frame of a depth image. Throws when the image cannot be used (no frame then); a scan that
@@ -68,12 +73,14 @@ class FrameAssembler {
                 const sensor_msgs::CameraInfo& info);
   void addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth);
   void addScan(AssembledFrame& out, const ::ros::Time& stamp);
+  void addLaserScan(AssembledFrame& out, const ::ros::Time& stamp);
 
   FrameAssemblerOptions options_;
   Lookup lookup_;
   PinholeRayCache camera_rays_;
   std::shared_ptr<const SensorRays> lidar_rays_;
   std::deque<sensor_msgs::PointCloud2::ConstPtr> clouds_;
+  std::deque<sensor_msgs::LaserScan::ConstPtr> laser_scans_;
   std::deque<scene_graph_tracker::PoseHypothesisArray::ConstPtr> hypotheses_;
 };
 

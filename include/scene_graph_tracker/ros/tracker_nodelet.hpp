@@ -62,6 +62,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onDepth(const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::CameraInfoConstPtr& info);
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onLaserScan(const sensor_msgs::LaserScanConstPtr& scan);
   void onUndecodable(const std::string& text);
   void onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg);
   // Localization modes (tracker_localization.cpp).
@@ -114,7 +115,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   ImageInput depth_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
-  ::ros::Subscriber cloud_sub_, hypotheses_sub_, initialpose_sub_;
+  ::ros::Subscriber cloud_sub_, scan_sub_, hypotheses_sub_, initialpose_sub_;
   ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, diagnostics_pub_;
   ::ros::ServiceServer reset_srv_, add_srv_, remove_srv_;
   std::unique_ptr<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>> reconfigure_;

@@ -11,7 +11,12 @@
 
 namespace sgt {
 
-using SensorModel = std::variant<std::monostate, PinholeModel, SpinningLidarModel>;
+// A range sensor's returns as one ray per return, from the sensor origin, with no grid to search:
+// an unorganized cloud or one of a LiDAR other than the configured grid (VLP-32C, Ouster, Hesai,
+// Livox, Luminar), or a 2D laser scan.
+struct PointRays {};
+
+using SensorModel = std::variant<std::monostate, PinholeModel, SpinningLidarModel, PointRays>;
 
 struct RangeMeasurements {
   std::string sensor;  // a name for messages (e.g. the frame id)
@@ -27,6 +32,7 @@ struct RangeMeasurements {
   }
   std::size_t validCount() const;
   Eigen::Vector3f pointInSensor(std::size_t i) const { return rays->directions[i] * range[i]; }
+  bool isDepthImage() const { return std::holds_alternative<PinholeModel>(model); }
 };
 
 // From a depth image (z along the optical axis, metres, row-major, NaN/0 for no return).

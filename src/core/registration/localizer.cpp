@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/registration/localizer.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -22,6 +23,31 @@ const char* toString(LocalizeStatus s) {
   return "?";
 }
 
+namespace {
+
+// Whether point-to-plane pairs fix x, y and yaw: the smallest eigenvalue of their information
+// (rows: yaw lever in units of the points' RMS distance, then the normals' x and y), per pair,
+// is not negligible. A floor alone (vertical normals) or a corridor's two walls fail.
+bool planarPoseObservable(const std::vector<Eigen::Vector3f>& points,
+                          const std::vector<Eigen::Vector3f>& normals) {
+  if (points.empty()) return false;
+  double sq = 0.0;
+  for (const Eigen::Vector3f& p : points) sq += p.head<2>().squaredNorm();
+  const double scale = std::sqrt(sq / points.size());
+  if (!(scale > 0.0)) return false;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = points[i].cast<double>(), n = normals[i].cast<double>();
+    const Eigen::Vector3d J((p.x() * n.y() - p.y() * n.x()) / scale, n.x(), n.y());
+    H += J * J.transpose();
+  }
+  constexpr double kMinInformationPerPair = 1e-3;
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(H, Eigen::EigenvaluesOnly)
+             .eigenvalues()(0) >= kMinInformationPerPair * points.size();
+}
+
+}  // namespace
+
 LocalizeResult Localizer::localize(const RaycastScene& scene,
                                    const std::vector<RangeMeasurements>& measurements,
                                    const Eigen::Isometry3d& T_map_base_prior) const {
@@ -35,8 +61,11 @@ LocalizeResult Localizer::localize(const RaycastScene& scene,
   std::vector<RangeMeasurements> moved = measurements;  // sensor poses follow the estimate
   std::vector<TileSet> tiles;
   for (const RangeMeasurements& m : measurements) {
-    const int stride = std::holds_alternative<PinholeModel>(m.model) ? options_.image_stride
-                                                                     : options_.scan_stride;
+    // Strides thin the grids; one ray per return (PointRays: a laser scan's few hundred beams,
+    // an unorganized cloud) is cast whole.
+    const int stride = std::holds_alternative<PinholeModel>(m.model)         ? options_.image_stride
+                       : std::holds_alternative<SpinningLidarModel>(m.model) ? options_.scan_stride
+                                                                             : 1;
     const GridRect whole{0, 0, m.rays->width, m.rays->height};
     tiles.push_back(TileSet::covering(*m.rays, std::vector<GridRect>{whole}, stride));
   }
@@ -78,8 +107,16 @@ LocalizeResult Localizer::localize(const RaycastScene& scene,
     if (result.inliers < options_.min_inliers) break;
     result.rmse = std::sqrt(sq_residual / pairs.size());
     AlignmentOptions alignment = options_.alignment;
-    if (options_.planar)
+    if (options_.planar) {
       alignment.free_dofs = {false, false, true, true, true, false};  // base frame: z up
+      // A planar set (a laser scan's plane) still fixes x, y and yaw; what it needs is surfaces
+      // facing several ways, which the information of those three says.
+      alignment.reject_planar = false;
+      if (!planarPoseObservable(moving, normals)) {
+        degenerate = true;
+        break;
+      }
+    }
     const IterativeAlignment a =
         alignPairs(moving, fixed, normals, NormalSide::kFixed, options_.solver, options_.steps,
                    options_.step_tolerance, alignment);
