@@ -43,10 +43,10 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   sendFrame(false, depth_, "32FC1", 320);
   sendFrame(false, std::vector<float>(depth_.size(), std::numeric_limits<float>::quiet_NaN()));
   sendFrame(false, depth_, "32FC1", 640, "nowhere");
-  for (int i = 0; i < 100; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
-  EXPECT_TRUE(warned("rgb8")) << "wrong encoding";
-  EXPECT_TRUE(warned("camera_info says")) << "size mismatch";
-  EXPECT_TRUE(warned("nowhere")) << "missing TF";
+  spin(2.0);
+  EXPECT_TRUE(warnedWithin("rgb8")) << "wrong encoding";
+  EXPECT_TRUE(warnedWithin("camera_info says")) << "size mismatch";
+  EXPECT_TRUE(warnedWithin("nowhere")) << "missing TF";
 
   // ... and it keeps tracking.
   const std::size_t before = objects_count_;
@@ -142,8 +142,8 @@ TEST_F(TrackerNodeTest, TracksFromCompressedDepthWithExternalLocalization) {
   broken.format = "16UC1; compressedDepth png";
   broken.data.assign(40, 7);
   depth_compressed_pub_.publish(broken);
-  for (int i = 0; i < 100; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
-  EXPECT_TRUE(warned("does not decode"));
+  spin(2.0);
+  EXPECT_TRUE(warnedWithin("does not decode"));
 }
 
 }  // namespace

@@ -1,11 +1,16 @@
 // The tracker node's rostest fixture: simulated depth of the workbench (five catalog objects and
 // a box the tracker does not know) published with noisy detections to the node that
 // test/ros/tracker.test launches; the node's outputs and warnings collected.
+//
+// The fixture's subscriptions have a callback queue of their own, which only the test's thread
+// spins (spin()): their state is never written while a test reads it. run() sends frames in
+// lock-step with the node's output, so a slow node (a sanitizer build) sees every frame.
 #pragma once
 
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <gtest/gtest.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
@@ -43,6 +48,7 @@ inline Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw) {
 class TrackerNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    nh_.setCallbackQueue(&queue_);
     const Building building = makeBuilding();  // the node's static_map (written by write_map)
     catalog_ = loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml");
     world_.setStaticMap(std::make_shared<TriangleMesh>(building.mesh), 1);
@@ -141,17 +147,39 @@ class TrackerNodeTest : public ::testing::Test {
     else
       depth_pub_.publish(img);
     info_pub_.publish(info);
-    for (int i = 0; i < 10; ++i) ::ros::Duration(0.01).sleep(), ::ros::spinOnce();
+    spin(0.1);
   }
 
+  // Runs the fixture's callbacks for `seconds` (at least once).
+  void spin(double seconds) {
+    const ::ros::WallTime end = ::ros::WallTime::now() + ::ros::WallDuration(seconds);
+    do queue_.callAvailable(::ros::WallDuration(0.01));
+    while (::ros::WallTime::now() < end);
+  }
+
+  // Spins until `done` holds, at most `seconds`; whether it holds.
+  template <typename Done>
+  bool spinUntil(Done done, double seconds = 30.0) {
+    const ::ros::WallTime end = ::ros::WallTime::now() + ::ros::WallDuration(seconds);
+    while (!done() && ::ros::WallTime::now() < end) spin(0.01);
+    return done();
+  }
+
+  bool warnedWithin(const std::string& text, double seconds = 30.0) {
+    return spinUntil([&] { return warned(text); }, seconds);
+  }
+
+  // `frames` frames at up to `rate_hz`, each once the node has published the previous one's
+  // objects.
   void run(int frames, bool hypotheses, double rate_hz = 5.0) {
     for (int f = 0; f < frames; ++f) {
-      std::vector<float> noisy = depth_;
-      sendFrame(hypotheses, noisy);
-      ::ros::Duration(1.0 / rate_hz).sleep();
-      ::ros::spinOnce();
+      const ::ros::Time stamp = ::ros::Time::now();
+      sendFrame(hypotheses, depth_, "32FC1", 640, "camera", stamp);
+      EXPECT_TRUE(spinUntil([&] { return objects_ && objects_->header.stamp >= stamp; }))
+          << "no output for the frame at " << stamp;
+      spin(1.0 / rate_hz);
     }
-    for (int i = 0; i < 50; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
+    spin(0.5);
   }
 
   // Largest translation error of the tracked objects against the truth, matching by class.
@@ -227,6 +255,7 @@ class TrackerNodeTest : public ::testing::Test {
     if (m->level >= rosgraph_msgs::Log::WARN) warnings_.push_back(m->msg);
   }
 
+  ::ros::CallbackQueue queue_;  // before nh_: its subscriptions leave it when they end
   ::ros::NodeHandle nh_;
   RaycastScene world_;
   ObjectCatalog catalog_;
