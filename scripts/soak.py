@@ -11,8 +11,10 @@ Writes OUTPUT/soak.json:
   {minutes, samples: [...], rss_growth_after_warmup: {node: fraction}, fds_growth: {node: n},
    crashes, frames_in, frames_out, dropped_counted, frames_published, dropped_uncounted,
    probe_missed, db_rows_expected, db_rows_found}
-frames_published counts the depth images the player sent: those this script's own subscriber saw
-(it reads only header.seq) and the gaps in their seq (probe_missed). frames_in counts those that
+frames_published counts the depth images the player sent, from the header.seq this script's own
+subscriber sees (it reads nothing else): every loop of the bag (whose images are numbered without
+gaps) it saw restart plus the current one up to the last seq seen; for another bag, the images
+seen and the gaps between them (probe_missed, the probe's own losses). frames_in counts those that
 reached the tracker's frame callback, frames_out those it processed. dropped_counted is every
 depth image the tracker knows it lost:
 - those it received and dropped with a count (duplicates, out of order, skipped, failed);
@@ -52,16 +54,32 @@ def free_port():
         return s.getsockname()[1]
 
 
-def pids():
-    """name -> pid of each soaked process that runs now."""
+def parent(pid):
+    with open("/proc/%d/stat" % pid) as f:
+        return int(f.read().rsplit(")", 1)[1].split()[1])
+
+
+def descends(pid, ancestor):
+    while pid > 1:
+        if pid == ancestor:
+            return True
+        pid = parent(pid)
+    return False
+
+
+def pids(launch_pid):
+    """name -> pid of each soaked process that runs now below the launch (another launch of the
+    same nodes on this machine is not ours)."""
     found = {}
     for p in os.listdir("/proc"):
         if not p.isdigit():
             continue
         try:
+            if not descends(int(p), launch_pid):
+                continue
             with open("/proc/%s/cmdline" % p, "rb") as f:
                 cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
-        except OSError:
+        except (OSError, ValueError, IndexError):
             continue
         for name, marker in NODES.items():
             if marker in cmd and "roslaunch" not in cmd:
@@ -96,6 +114,7 @@ class Listener:
         self.depth_images = 0
         self.missed = 0  # gaps in header.seq of the images this probe saw: its own losses
         self.last_seq = None
+        self.restarts = 0  # seq stepped back: the bag looped
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=50)
         # Undecoded (AnyMsg): the probe only reads header.seq, so it keeps up with the player.
         rospy.Subscriber(depth_topic, rospy.AnyMsg, self.on_depth, queue_size=1000,
@@ -118,13 +137,19 @@ class Listener:
             self.depth_images += 1
             if self.last_seq is not None and seq > self.last_seq + 1:
                 self.missed += seq - self.last_seq - 1
+            self.restarts += self.last_seq is not None and seq < self.last_seq
             self.last_seq = seq
 
-    def snapshot(self):
-        """(diagnostics, images published: those seen and those the probe missed)."""
+    def snapshot(self, bag_seqs=None):
+        """(diagnostics, images published). With the bag's (first, last) depth seq: every loop the
+        probe saw restart, and the current one up to the last seq seen (rosbag play drops
+        nothing); else those seen and the gaps between them."""
         with self.lock:
-            return ({k: dict(v) for k, v in self.status.items()},
-                    self.depth_images + self.missed)
+            status = {k: dict(v) for k, v in self.status.items()}
+            if bag_seqs and self.last_seq is not None:
+                first, last = bag_seqs
+                return status, self.restarts * (last - first + 1) + self.last_seq - first + 1
+            return status, self.depth_images + self.missed
 
 
 def db_query(db_dir, port, sql):
@@ -143,7 +168,20 @@ def growth(samples, node, key, relative):
     return (after[-1] - after[0]) / after[0] if relative else after[-1] - after[0]
 
 
-def drain(listener, env, limit_s=600.0):
+def bag_seqs(bag, topic):
+    """(first, last) header.seq of the bag's depth images when they are numbered without gaps;
+    None otherwise."""
+    import rosbag
+    seqs = []
+    with rosbag.Bag(bag) as b:
+        for _, raw, _ in b.read_messages(topics=[topic], raw=True):
+            seqs.append(struct.unpack_from("<I", raw[1], 0)[0])
+    if seqs and seqs == list(range(seqs[0], seqs[0] + len(seqs))):
+        return seqs[0], seqs[-1]
+    return None
+
+
+def drain(listener, env, seqs, limit_s=600.0):
     """Pauses the bag, then waits until the bridge has nothing pending and no counter moves (two
     snapshots 3 s apart alike). Returns the last snapshot."""
     subprocess.run(["rosservice", "call", "/player/pause_playback", "true"], env=env,
@@ -151,7 +189,7 @@ def drain(listener, env, limit_s=600.0):
     last, start = None, time.time()
     while True:
         time.sleep(3.0)
-        snap = listener.snapshot()
+        snap = listener.snapshot(seqs)
         pending = snap[0].get("scene_graph_tracker: semap_bridge", {}).get("pending", -1)
         if (pending == 0 and snap == last) or time.time() - start > limit_s:
             if pending != 0:
@@ -198,6 +236,7 @@ def main():
     ap.add_argument("--period", type=float, default=10.0)
     ap.add_argument("--depth-topic", default="/camera/depth_registered/image_raw")
     a = ap.parse_args()
+    seqs = bag_seqs(a.bag, a.depth_topic)
     os.makedirs(a.output, exist_ok=True)
     db_dir, db_port, ros_port = os.path.join(os.path.abspath(a.output), "db"), free_port(), free_port()
     env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % ros_port)
@@ -230,13 +269,13 @@ def main():
                 print("soak: roslaunch ended (see %s)" % log.name, flush=True)
                 break
             t = time.time() - start
-            now = pids()
+            now = pids(launch.pid)
             for name, pid in now.items():
                 if name in seen and seen[name] != pid:
                     crashes += 1  # restarted under another pid
                 seen[name] = pid
             crashes += sum(1 for name in seen if name not in now)
-            status, published = listener.snapshot()
+            status, published = listener.snapshot(seqs)
             tracker = status.get("scene_graph_tracker: tracker", {})
             bridge = status.get("scene_graph_tracker: semap_bridge", {})
             sample = {"t": round(t, 1),
@@ -253,7 +292,7 @@ def main():
                       bridge.get("pending", "-"),
                       ", ".join("%s %.0f MB" % (n, s["rss_mb"]) for n, s in sample["nodes"].items())),
                   flush=True)
-        status, published = drain(listener, env)
+        status, published = drain(listener, env, seqs)
         rows = db_query(db_dir, db_port, "SELECT count(*) FROM pose_history")
     finally:
         stop_launch(launch)

@@ -72,6 +72,17 @@ PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min, flo
   cam.width = static_cast<int>(info.width), cam.height = static_cast<int>(info.height);
   cam.fx = info.K[0], cam.fy = info.K[4], cam.cx = info.K[2], cam.cy = info.K[5];
   cam.range_min = range_min, cam.range_max = range_max;
+  const bool none = std::all_of(info.D.begin(), info.D.end(), [](double d) { return d == 0.0; });
+  if (none) return cam;
+  if (info.distortion_model != "plumb_bob" || info.D.size() != 5)
+    throw ConversionError("camera_info distortion '" + info.distortion_model + "' with " +
+                          std::to_string(info.D.size()) +
+                          " coefficients is not supported (plumb_bob with 5 is; or rectify the "
+                          "images, e.g. with image_proc)");
+  for (std::size_t k = 0; k < 5; ++k) {
+    if (!std::isfinite(info.D[k])) throw ConversionError("camera_info D is not finite");
+    cam.distortion[k] = info.D[k];
+  }
   return cam;
 }
 
@@ -79,7 +90,7 @@ sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam) {
   sensor_msgs::CameraInfo info;
   info.width = cam.width, info.height = cam.height;
   info.distortion_model = "plumb_bob";
-  info.D.assign(5, 0.0);
+  info.D.assign(cam.distortion.begin(), cam.distortion.end());
   info.K = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
   info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   info.P = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};

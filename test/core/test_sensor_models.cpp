@@ -1,6 +1,10 @@
-// Sensor models: pinhole and VLP-16 ray directions match their definitions; simulated depth of
-// a known plane equals the analytic depth.
+// Sensor models: pinhole (with and without lens distortion) and VLP-16 ray directions match their
+// definitions; simulated depth of a known plane equals the analytic depth.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
@@ -31,6 +35,35 @@ TEST(PinholeModel, RaysProjectBackToTheirPixels) {
   EXPECT_TRUE(centred.direction(10, 20).isApprox(Eigen::Vector3f::UnitZ()));
   cam.width = 0;
   EXPECT_THROW(makeRays(cam), std::invalid_argument);
+}
+
+// A plumb_bob lens (a RealSense colour camera's order of distortion, and stronger): every pixel's
+// ray projects back onto it, and project() agrees with OpenCV's projectPoints.
+TEST(PinholeModel, DistortedRaysProjectBackAndMatchOpenCv) {
+  PinholeModel cam;
+  cam.distortion = {-0.28, 0.09, 0.0012, -0.0008, -0.01};
+  ASSERT_TRUE(cam.distorted());
+  const SensorRays rays = makeRays(cam);
+  const cv::Mat K = (cv::Mat_<double>(3, 3) << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+  const cv::Mat D = (cv::Mat_<double>(1, 5) << -0.28, 0.09, 0.0012, -0.0008, -0.01);
+  double straight_apart = 0.0;  // how far the corner rays are from an undistorted camera's
+  for (int v : {0, 17, 240, 479})
+    for (int u : {0, 99, 320, 639}) {
+      const Eigen::Vector3f d = rays.directions[rays.index(u, v)];
+      EXPECT_NEAR(d.norm(), 1.0f, 1e-6f);
+      const auto px = cam.project(d.cast<double>() * 2.0);
+      ASSERT_TRUE(px);
+      EXPECT_NEAR(px->x(), u, 1e-3);
+      EXPECT_NEAR(px->y(), v, 1e-3);
+      std::vector<cv::Point2d> cv_px;
+      cv::projectPoints(std::vector<cv::Point3d>{{d.x(), d.y(), d.z()}}, cv::Vec3d(0, 0, 0),
+                        cv::Vec3d(0, 0, 0), K, D, cv_px);
+      EXPECT_NEAR(cv_px[0].x, px->x(), 1e-6);
+      EXPECT_NEAR(cv_px[0].y, px->y(), 1e-6);
+      straight_apart = std::max<double>(
+          straight_apart, std::acos(std::min(1.0f, d.dot(PinholeModel().direction(u, v)))));
+    }
+  EXPECT_GT(straight_apart * 180.0 / M_PI, 2.0);  // the lens matters at the corners
 }
 
 TEST(SpinningLidarModel, Vlp16Geometry) {

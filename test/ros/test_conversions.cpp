@@ -245,6 +245,23 @@ TEST(Conversions, CloudsWithPaddedRowsAndBigEndianDataReadBack) {
   }
 }
 
+TEST(Conversions, CameraInfoDistortion) {
+  PinholeModel cam;
+  cam.distortion = {-0.28, 0.09, 0.0012, -0.0008, -0.01};
+  const sensor_msgs::CameraInfo info = toCameraInfo(cam);
+  EXPECT_EQ(info.distortion_model, "plumb_bob");
+  EXPECT_EQ(toPinhole(info).distortion, cam.distortion);
+  sensor_msgs::CameraInfo rational = info;
+  rational.distortion_model = "rational_polynomial";
+  rational.D.resize(8, 0.0);
+  EXPECT_THROW(toPinhole(rational), ConversionError);  // rectify first
+  rational.D.assign(8, 0.0);
+  EXPECT_FALSE(toPinhole(rational).distorted());  // all zero: no lens to model
+  sensor_msgs::CameraInfo nan = info;
+  nan.D[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(toPinhole(nan), ConversionError);
+}
+
 TEST(Conversions, ACameraInfoBeyondAnyCameraIsRejectedBeforeAnythingIsAllocated) {
   PinholeModel cam;
   sensor_msgs::CameraInfo huge = toCameraInfo(cam);

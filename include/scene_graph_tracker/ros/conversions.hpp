@@ -29,7 +29,8 @@ Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t);
 geometry_msgs::Pose toPose(const Eigen::Isometry3d& T);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
 
-// Pinhole model from camera_info (K; distortion is ignored: use rectified images).
+// Pinhole model from camera_info: K, and D when it is plumb_bob (its rays then come from the
+// distorted model); another distortion model with non-zero D throws (rectify the images).
 PinholeModel toPinhole(const sensor_msgs::CameraInfo& info, float range_min = 0.2f,
                        float range_max = 10.0f);
 sensor_msgs::CameraInfo toCameraInfo(const PinholeModel& cam);

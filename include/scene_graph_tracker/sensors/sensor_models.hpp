@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -15,25 +16,40 @@
 namespace sgt {
 
 // Pinhole camera in the optical frame (REP-103: z forward, x right, y down), parameters as in
-// sensor_msgs/CameraInfo's K. A pixel's ray goes through the pixel centre (u + 0.5 is not used:
-// CameraInfo's cx, cy already refer to pixel centres at integer coordinates).
+// sensor_msgs/CameraInfo's K and D. A pixel's ray goes through the pixel centre (u + 0.5 is not
+// used: CameraInfo's cx, cy already refer to pixel centres at integer coordinates). With
+// `distortion` (plumb_bob: k1, k2, p1, p2, k3; all 0: none) the rays come from the distorted
+// model: an unrectified image's pixel looks along its own, undistorted direction.
 struct PinholeModel {
   int width = 640;
   int height = 480;
   double fx = 525.0, fy = 525.0;
   double cx = 319.5, cy = 239.5;
+  std::array<double, 5> distortion{};  // k1, k2, p1, p2, k3
   float range_min = 0.2f;
   float range_max = 10.0f;
 
-  Eigen::Vector3f direction(int u, int v) const {  // unit
-    return Eigen::Vector3f(static_cast<float>((u - cx) / fx), static_cast<float>((v - cy) / fy),
-                           1.0f)
-        .normalized();
+  bool distorted() const {
+    for (double d : distortion)
+      if (d != 0.0) return true;
+    return false;
+  }
+  // Unit ray of pixel (u, v) (undistorted first, when the model is distorted).
+  Eigen::Vector3f direction(int u, int v) const;
+  // Normalised image coordinates (x/z, y/z) moved by the lens distortion.
+  Eigen::Vector2d distort(const Eigen::Vector2d& xy) const {
+    const double k1 = distortion[0], k2 = distortion[1], p1 = distortion[2], p2 = distortion[3],
+                 k3 = distortion[4];
+    const double x = xy.x(), y = xy.y(), r2 = x * x + y * y;
+    const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+            y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
   }
   // Pixel of a point in the optical frame; nullopt behind the camera.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p) const {
     if (p.z() <= 1e-9) return std::nullopt;
-    return Eigen::Vector2d(fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy);
+    const Eigen::Vector2d d = distort(Eigen::Vector2d(p.x() / p.z(), p.y() / p.z()));
+    return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
   }
   // Primesense / Asus Xtion style camera of the paper: 640x480, ~58 deg horizontal FOV.
   static PinholeModel xtion() { return PinholeModel{}; }

@@ -29,10 +29,19 @@ struct Correspondences {
   std::vector<cv::Point2d> image;
 };
 
+// OpenCV's camera matrix and distortion coefficients (empty: none) of a pinhole model.
+struct Intrinsics {
+  cv::Mat K, D;
+  explicit Intrinsics(const PinholeModel& c)
+      : K((cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1)) {
+    if (c.distorted()) D = cv::Mat(c.distortion, true).reshape(1, 1);
+  }
+};
+
 double reprojectionRms(const Correspondences& c, const cv::Mat& rvec, const cv::Mat& tvec,
-                       const cv::Mat& K) {
+                       const Intrinsics& in) {
   std::vector<cv::Point2d> projected;
-  cv::projectPoints(c.object, rvec, tvec, K, cv::noArray(), projected);
+  cv::projectPoints(c.object, rvec, tvec, in.K, in.D, projected);
   double sum = 0.0;
   for (std::size_t i = 0; i < projected.size(); ++i) {
     const cv::Point2d d = projected[i] - c.image[i];
@@ -42,7 +51,7 @@ double reprojectionRms(const Correspondences& c, const cv::Mat& rvec, const cv::
 }
 
 // AP3P on every 4-subset of 4–5 points; the solution that reprojects all points best.
-bool solveFewPoints(const Correspondences& c, const cv::Mat& K, cv::Mat& rvec, cv::Mat& tvec) {
+bool solveFewPoints(const Correspondences& c, const Intrinsics& in, cv::Mat& rvec, cv::Mat& tvec) {
   const std::size_t n = c.object.size();
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t skip = 0; skip < (n == 4 ? 1 : n); ++skip) {
@@ -54,12 +63,12 @@ bool solveFewPoints(const Correspondences& c, const cv::Mat& K, cv::Mat& rvec, c
     }
     cv::Mat r, t;
     try {
-      if (!cv::solvePnP(sub.object, sub.image, K, cv::noArray(), r, t, false, cv::SOLVEPNP_AP3P))
+      if (!cv::solvePnP(sub.object, sub.image, in.K, in.D, r, t, false, cv::SOLVEPNP_AP3P))
         continue;
     } catch (const cv::Exception&) {
       continue;
     }
-    const double e = reprojectionRms(c, r, t, K);
+    const double e = reprojectionRms(c, r, t, in);
     if (e < best) {
       best = e;
       rvec = r;
@@ -67,7 +76,7 @@ bool solveFewPoints(const Correspondences& c, const cv::Mat& K, cv::Mat& rvec, c
     }
   }
   if (!std::isfinite(best)) return false;
-  cv::solvePnPRefineLM(c.object, c.image, K, cv::noArray(), rvec, tvec);
+  cv::solvePnPRefineLM(c.object, c.image, in.K, in.D, rvec, tvec);
   return true;
 }
 
@@ -89,19 +98,17 @@ PnpResult solveCuboidPnp(const std::vector<Keypoint>& keypoints,
   }
   result.points_used = static_cast<int>(c.object.size());
   if (c.object.size() < 4) return result;  // TooFewPoints
-  const cv::Mat K =
-      (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  const Intrinsics in(camera);
   cv::Mat rvec, tvec;
   bool solved = false;
   try {
     if (c.object.size() >= 6) {
-      solved =
-          cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP);
+      solved = cv::solvePnP(c.object, c.image, in.K, in.D, rvec, tvec, false, cv::SOLVEPNP_EPNP);
       if (solved)
-        solved = cv::solvePnP(c.object, c.image, K, cv::noArray(), rvec, tvec, true,
-                              cv::SOLVEPNP_ITERATIVE);
+        solved =
+            cv::solvePnP(c.object, c.image, in.K, in.D, rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
     } else {
-      solved = solveFewPoints(c, K, rvec, tvec);
+      solved = solveFewPoints(c, in, rvec, tvec);
     }
   } catch (const cv::Exception&) {
     solved = false;
@@ -118,7 +125,7 @@ PnpResult solveCuboidPnp(const std::vector<Keypoint>& keypoints,
   cv::cv2eigen(tvec, te);
   result.T_camera_object.linear() = Re;
   result.T_camera_object.translation() = te;
-  result.reprojection_rms_px = reprojectionRms(c, rvec, tvec, K);
+  result.reprojection_rms_px = reprojectionRms(c, rvec, tvec, in);
   const Eigen::Vector3d centre = result.T_camera_object * object_points[kCuboidKeypoints - 1];
   if (centre.z() < options.min_depth) {
     result.status = PnpStatus::BehindCamera;

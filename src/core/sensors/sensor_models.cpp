@@ -14,6 +14,28 @@ Eigen::Isometry3d opticalLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3
   return T;
 }
 
+Eigen::Vector3f PinholeModel::direction(int u, int v) const {
+  const Eigen::Vector2d pixel((u - cx) / fx, (v - cy) / fy);  // normalised, distorted
+  Eigen::Vector2d xy = pixel;
+  if (distorted()) {
+    // The undistorted point whose distortion is the pixel, by OpenCV's fixed-point iteration
+    // (undistortPoints), run to convergence.
+    const double k1 = distortion[0], k2 = distortion[1], p1 = distortion[2], p2 = distortion[3],
+                 k3 = distortion[4];
+    for (int i = 0; i < 50; ++i) {
+      const double x = xy.x(), y = xy.y(), r2 = x * x + y * y;
+      const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+      const Eigen::Vector2d tangential(2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+                                       p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y);
+      const Eigen::Vector2d next = (pixel - tangential) / radial;
+      const double moved = (next - xy).squaredNorm();
+      xy = next;
+      if (moved < 1e-24) break;
+    }
+  }
+  return Eigen::Vector3f(static_cast<float>(xy.x()), static_cast<float>(xy.y()), 1.0f).normalized();
+}
+
 SensorRays makeRays(const PinholeModel& m) {
   if (m.width <= 0 || m.height <= 0 || !(m.fx > 0) || !(m.fy > 0))
     throw std::invalid_argument("pinhole model needs positive width, height, fx, fy (got " +
@@ -33,8 +55,8 @@ SensorRays makeRays(const PinholeModel& m) {
 std::shared_ptr<const SensorRays> PinholeRayCache::rays(const PinholeModel& m) {
   const bool same = rays_ && m.width == model_.width && m.height == model_.height &&
                     m.fx == model_.fx && m.fy == model_.fy && m.cx == model_.cx &&
-                    m.cy == model_.cy && m.range_min == model_.range_min &&
-                    m.range_max == model_.range_max;
+                    m.cy == model_.cy && m.distortion == model_.distortion &&
+                    m.range_min == model_.range_min && m.range_max == model_.range_max;
   if (!same) rays_ = std::make_shared<const SensorRays>(makeRays(m)), model_ = m;
   return rays_;
 }
