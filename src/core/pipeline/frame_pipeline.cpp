@@ -103,8 +103,7 @@ std::vector<RangeMeasurements> FramePipeline::localizationSets(
     const std::vector<RangeMeasurements>& sets) const {
   std::vector<RangeMeasurements> chosen;
   for (const RangeMeasurements& m : sets)
-    if (!options_.localize_with_lidar_only || !m.isDepthImage())
-      chosen.push_back(m);
+    if (!options_.localize_with_lidar_only || !m.isDepthImage()) chosen.push_back(m);
   return chosen;
 }
 
