@@ -206,6 +206,12 @@ Eigen::Vector3f cloudPoint(const sensor_msgs::PointCloud2& cloud, const CloudLay
   return v;
 }
 
+// A point's distance from the sensor, always by this expression: Eigen's norm() can differ in the
+// last bit, and the tracker's results follow such bits (doc/experiments.md, section 20).
+float pointRange(const Eigen::Vector3f& p) {
+  return std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z());
+}
+
 bool swapped(const sensor_msgs::PointCloud2& cloud) {
   return cloud.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
 }
@@ -228,7 +234,7 @@ RangeMeasurements measurementsFromCloud(const sensor_msgs::PointCloud2& cloud,
     std::vector<float> ranges(l.points, std::numeric_limits<float>::quiet_NaN());
     for (std::size_t i = 0; i < l.points; ++i) {
       const Eigen::Vector3f p = cloudPoint(cloud, l, i, swap);
-      const float r = std::sqrt(p.x() * p.x() + p.y() * p.y() + p.z() * p.z());
+      const float r = pointRange(p);
       if (std::isfinite(r) && r > 0.0f) ranges[i] = r;
     }
     return fromRanges(grid, std::move(grid_rays), std::move(ranges), T_world_sensor, sensor);
@@ -238,7 +244,7 @@ RangeMeasurements measurementsFromCloud(const sensor_msgs::PointCloud2& cloud,
   directions.reserve(l.points), ranges.reserve(l.points);
   for (std::size_t i = 0; i < l.points; ++i) {
     const Eigen::Vector3f p = cloudPoint(cloud, l, i, swap);
-    const float r = p.norm();
+    const float r = pointRange(p);
     if (!std::isfinite(r) || !(r > 0.0f)) continue;  // no return: no ray
     directions.push_back(p / r), ranges.push_back(r);
   }
