@@ -93,7 +93,7 @@ run_rostest() {
     $hide /bin/sh -c "$run" > "$tmp/rostest.log" 2>&1
   local status=$?
   tail -5 "$tmp/rostest.log"
-  [ $status -eq 0 ] || fail "the tracker rostest from the install space failed (exit $status):"$'\n'"$(tail -40 "$tmp/rostest.log")"
+  [ $status -eq 0 ] || fail "the tracker rostest from the install space failed (exit $status):"$'\n'"$(tail -12 "$tmp/rostest.log")"
   check_gtest_results "$tmp/home/.ros/test_results/$pkg"
 }
 
@@ -103,12 +103,16 @@ check_gtest_results() {
   local verdict
   verdict="$(/usr/bin/python3 - "$1" <<'PY'
 import glob, sys, xml.etree.ElementTree as ET
-cases = bad = 0
+cases, bad = 0, []
 for path in glob.glob(sys.argv[1] + "/rosunit-*.xml"):
     for case in ET.parse(path).getroot().iter("testcase"):
         cases += 1
-        bad += case.find("failure") is not None or case.find("error") is not None
-print("ok %d cases" % cases if cases and not bad else "%d of %d cases failed" % (bad, cases))
+        error = case.find("failure") if case.find("failure") is not None else case.find("error")
+        if error is not None:
+            text = (error.text or error.get("message") or "").strip()
+            bad.append("%s.%s: %s" % (case.get("classname"), case.get("name"), text[:1500]))
+print("ok %d cases" % cases if cases and not bad else "%d of %d cases failed" % (len(bad), cases))
+print("\n".join(bad))
 PY
 )"
   echo "install-check: gtest results: $verdict"

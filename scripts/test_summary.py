@@ -27,7 +27,8 @@ def cases(path):
         if bad is None:
             bad = case.find("error")
         if bad is not None:
-            yield (name, (bad.get("message") or bad.text or "").strip(), "failed")
+            # The text holds the whole failure; the message attribute is often its first line only.
+            yield (name, (bad.text or bad.get("message") or "").strip(), "failed")
         elif case.find("skipped") is not None or case.get("result") == "skipped":
             yield (name, "", "skipped")
         else:
