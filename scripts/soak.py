@@ -8,9 +8,14 @@ replay.launch (loop, no rviz, semap; the bag plays once the tracker has subscrib
 s it samples each node's RSS, open file descriptors and threads (/proc), the nodes' counters on
 /diagnostics (frames, tracks, frame time, the bridge's queue and rows) and the database size.
 Writes OUTPUT/soak.json:
-  {minutes, samples: [...], rss_growth_after_warmup: {node: fraction}, fds_growth: {node: n},
-   crashes, frames_in, frames_out, dropped_counted, frames_published, dropped_uncounted,
-   probe_missed, db_rows_expected, db_rows_found}
+  {minutes, samples: [...], rss_growth_after_warmup: {node: fraction}, rss_peak_growth: {...},
+   fds_growth: {node: n}, crashes, frames_in, frames_out, dropped_counted, frames_published,
+   dropped_uncounted, probe_missed, db_rows_expected, db_rows_found}
+rss_growth_after_warmup compares the median RSS of the last WINDOW_S of the run with that of the
+first WINDOW_S after the warm-up: what the node keeps, not the images it holds at one instant
+(its input queues fill and drain, and freed image buffers go back to the system). A leak shows
+there as it does in single samples. rss_peak_growth is the largest sample after the warm-up
+against that first window's median.
 frames_published counts the depth images the player sent, from the header.seq this script's own
 subscriber sees (it reads nothing else): every loop of the bag (whose images are numbered without
 gaps) it saw restart plus the current one up to the last seq seen; for another bag, the images
@@ -31,6 +36,7 @@ import argparse
 import json
 import os
 import signal
+import statistics
 import socket
 import struct
 import subprocess
@@ -46,6 +52,7 @@ NODES = {  # name in soak.json -> what its command line holds
 }
 OURS = ("tracker_manager", "semap_bridge")  # the RSS goal; rosbag play's buffer varies by design
 WARMUP_S = 120.0
+WINDOW_S = 120.0
 
 
 def free_port():
@@ -160,12 +167,17 @@ def db_query(db_dir, port, sql):
     return r.stdout.strip() if r.returncode == 0 else None
 
 
-def growth(samples, node, key, relative):
+def growth(samples, node, key, relative, peak=False):
+    """Median of the last WINDOW_S against the median of the first WINDOW_S after the warm-up
+    (peak: the largest sample after the warm-up against the latter); relative or absolute."""
     series = [(s["t"], s["nodes"][node][key]) for s in samples if node in s["nodes"]]
-    after = [v for t, v in series if t >= WARMUP_S]
+    after = [(t, v) for t, v in series if t >= WARMUP_S]
     if len(after) < 2:
         return None
-    return (after[-1] - after[0]) / after[0] if relative else after[-1] - after[0]
+    first = statistics.median(v for t, v in after if t < after[0][0] + WINDOW_S)
+    last = max(v for t, v in after) if peak else \
+        statistics.median(v for t, v in after if t > after[-1][0] - WINDOW_S)
+    return (last - first) / first if relative else last - first
 
 
 def bag_seqs(bag, topic):
@@ -308,6 +320,7 @@ def main():
     report = {
         "minutes": a.minutes, "rate": a.rate, "samples": samples,
         "rss_growth_after_warmup": {n: growth(samples, n, "rss_mb", True) for n in NODES},
+        "rss_peak_growth": {n: growth(samples, n, "rss_mb", True, peak=True) for n in NODES},
         "fds_growth": {n: growth(samples, n, "fds", False) for n in NODES},
         "crashes": crashes,
         "frames_published": published, "frames_in": frames_in,
