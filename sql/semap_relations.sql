@@ -145,7 +145,7 @@ CREATE OR REPLACE FUNCTION semap_relations(subject_id text DEFAULT NULL, relatio
                                            factor float8 DEFAULT 3.5, on_max_distance float8 DEFAULT 0.02,
                                            tolerance float8 DEFAULT 0)
 RETURNS TABLE(subject text, relation text, object text, since timestamptz) LANGUAGE sql STABLE AS $$
-  WITH t AS (SELECT i FROM instance i WHERE i.present AND (subject_id IS NULL OR i.id = subject_id)),
+  WITH t AS (SELECT i FROM instance i WHERE i.present AND NOT i.fixed AND (subject_id IS NULL OR i.id = subject_id)),
        r AS MATERIALIZED (SELECT i, c, semap_reach(i, c, factor) AS reach FROM instance i
              JOIN object_class c ON c.name = i.class_name
              WHERE i.present AND (object_id IS NULL OR i.id = object_id)),
@@ -181,6 +181,45 @@ $$;
 CREATE OR REPLACE FUNCTION semap_directional_relations(a text, b text, mode text DEFAULT 'strict')
 RETURNS SETOF text LANGUAGE sql STABLE AS $$
   SELECT relation FROM semap_relations(a, NULL, b, mode) WHERE relation NOT IN ('on', 'in')
+$$;
+
+-- The directional relations of a to b as a viewer at (viewer_x, viewer_y) (world frame) looking
+-- at b says them: b's box re-expressed in a frame centred at b, z up, x along the horizontal
+-- line of sight (from the viewer to b's origin), y to the viewer's left; its extents those of the
+-- smallest such box enclosing b. left_of / right_of are the viewer's left and right, in_front_of
+-- is between b and the viewer, behind is beyond b. The C++ engine's holdsFromViewpoint with a
+-- camera looking at b gives the same answers (test_semap_sql).
+CREATE OR REPLACE FUNCTION semap_viewer_relations(a text, b text, mode text, viewer_x float8, viewer_y float8,
+                                                  factor float8 DEFAULT 3.5, on_max_distance float8 DEFAULT 0.02,
+                                                  tolerance float8 DEFAULT 0)
+RETURNS SETOF text LANGUAGE plpgsql STABLE AS $$
+DECLARE
+  t instance;
+  r instance;
+  c object_class;
+  yaw float8;
+  e box3d;
+BEGIN
+  SELECT * INTO t FROM instance WHERE id = a AND present;
+  IF NOT FOUND THEN RETURN; END IF;
+  SELECT * INTO r FROM instance WHERE id = b AND present;
+  IF NOT FOUND THEN RETURN; END IF;
+  yaw := atan2(r.y - viewer_y, r.x - viewer_x);
+  -- b in the viewer-aligned frame: at the world origin, turned by yaw; its extents there.
+  r.x := 0; r.y := 0; r.z := 0; r.qw := cos(yaw / 2); r.qx := 0; r.qy := 0; r.qz := sin(yaw / 2);
+  e := Box3D(semap_unplace(r.box, 0, 0, 0, r.qw, 0, 0, r.qz));
+  c.name := 'viewer';
+  c.min_x := ST_XMin(e); c.min_y := ST_YMin(e); c.min_z := ST_ZMin(e);
+  c.max_x := ST_XMax(e); c.max_y := ST_YMax(e); c.max_z := ST_ZMax(e);
+  c.box := semap_aabb(c.min_x, c.min_y, c.min_z, c.max_x, c.max_y, c.max_z);
+  r.box := semap_place(c.box, 0, 0, 0, r.qw, 0, 0, r.qz);
+  -- The frame's +x points away from the viewer: "in front of b" is its -x side.
+  RETURN QUERY SELECT n FROM unnest(semap_relation_names()) n
+    WHERE n NOT IN ('on', 'in') AND semap_holds(
+      CASE n WHEN 'in_front_of' THEN 'behind' WHEN 'behind' THEN 'in_front_of' ELSE n END,
+      mode, t, r, c, factor, on_max_distance, tolerance)
+    ORDER BY 1;
+END
 $$;
 
 -- Where instance `id` was at `at`: its latest pose at or before `at`.

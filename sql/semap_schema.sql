@@ -42,6 +42,16 @@ CREATE TABLE IF NOT EXISTS instance (
   box geometry(PolyhedralSurfaceZ) NOT NULL
 );
 
+-- Fixed instances: the map's furniture and support surfaces (tables, shelves, carts; the bridge's
+-- `furniture` file), each with a class of its own named 'furniture:' || id. They are references
+-- for the relations like any object, are never marked absent by a frame that misses them, and
+-- have no pose history.
+ALTER TABLE instance ADD COLUMN IF NOT EXISTS fixed boolean NOT NULL DEFAULT false;
+-- The robot whose bridge wrote the instance (its ~robot_id; '' for one robot alone). With several
+-- robots in one database each bridge stores its tracks as '<robot>/<track id>', and a robot's
+-- frame marks only its own instances absent.
+ALTER TABLE instance ADD COLUMN IF NOT EXISTS robot text NOT NULL DEFAULT '';
+
 -- Every pose an instance had, by stamp.
 CREATE TABLE IF NOT EXISTS pose_history (
   instance_id text NOT NULL REFERENCES instance(id),

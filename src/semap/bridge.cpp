@@ -4,6 +4,7 @@
 #include <functional>
 #include <set>
 
+#include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/diagnostics.hpp"
 
@@ -116,6 +117,21 @@ semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, d
   return frame;
 }
 
+semap::Frame forRobot(semap::Frame frame, const std::string& robot) {
+  if (robot.empty()) return frame;
+  checkName("robot id", robot);
+  if (robot.find('/') != std::string::npos)
+    throw ConversionError("robot id '" + robot + "' holds a '/'");
+  std::set<std::string> ids;
+  for (const auto& o : frame.objects) ids.insert(o.id);
+  for (auto& o : frame.objects) {
+    if (ids.count(o.parent)) o.parent = robot + "/" + o.parent;
+    o.id = robot + "/" + o.id;
+  }
+  frame.robot = robot;
+  return frame;
+}
+
 semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
                                      double stamp, const ShapeLookup& shape) {
   checkMessageSize(objects.objects.size());
@@ -163,6 +179,12 @@ semap::WriterOptions writerOptions(const ::ros::NodeHandle& pnh) {
   o.flush_timeout_s = pnh.param("flush_timeout", o.flush_timeout_s);
   o.history_retention_s = pnh.param("history_retention", o.history_retention_s);
   o.prune_period_s = pnh.param("prune_period", o.prune_period_s);
+  const std::string furniture = pnh.param<std::string>("furniture", "");
+  if (!furniture.empty())
+    for (const relations::Entity& f : relations::loadFurniture(furniture))
+      o.fixed_objects.push_back({f.name,
+                                 Eigen::AlignedBox3d(-f.box.half_extents, f.box.half_extents),
+                                 f.box.T_world_box});
   return o;
 }
 
@@ -171,6 +193,9 @@ semap::WriterOptions writerOptions(const ::ros::NodeHandle& pnh) {
 SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
     : settings_(dbSettings(pnh)), service_spinner_(1, &service_queue_) {
   const semap::WriterOptions options = writerOptions(pnh);
+  map_frame_ = pnh.param<std::string>("map_frame", map_frame_);
+  robot_id_ = pnh.param<std::string>("robot_id", "");
+  forRobot({}, robot_id_);  // a robot id that cannot be stored fails here, not on every message
   write_period_ = pnh.param("write_period", write_period_);
   relation_period_ = pnh.param("relation_period", relation_period_);
   std::string catalog = pnh.param<std::string>("catalog", "");
@@ -200,9 +225,11 @@ SemapBridge::SemapBridge(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
   diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
   diagnostics_timer_ = nh.createWallTimer(
       ::ros::WallDuration(1.0), [this](const ::ros::WallTimerEvent&) { publishDiagnostics(); });
-  ROS_INFO("semap_bridge: %s -> postgresql://%s@%s:%d/%s (queue %zu frames, %zu classes)",
-           sub_.getTopic().c_str(), settings_.user.c_str(), settings_.host.c_str(), settings_.port,
-           settings_.dbname.c_str(), options.queue_size, catalog_.size());
+  ROS_INFO(
+      "semap_bridge: %s -> postgresql://%s@%s:%d/%s (queue %zu frames, %zu classes, %zu pieces of "
+      "furniture)",
+      sub_.getTopic().c_str(), settings_.user.c_str(), settings_.host.c_str(), settings_.port,
+      settings_.dbname.c_str(), options.queue_size, catalog_.size(), options.fixed_objects.size());
 }
 
 SemapBridge::~SemapBridge() { service_spinner_.stop(); }
@@ -289,7 +316,7 @@ void SemapBridge::accept(const std_msgs::Header& header,
   countSequence(header.seq);
   semap::Frame frame;
   try {
-    frame = convert([this](const std::string& c) { return shape(c); });
+    frame = forRobot(convert([this](const std::string& c) { return shape(c); }), robot_id_);
   } catch (const std::exception& e) {
     std::lock_guard<std::mutex> lock(counts_mutex_);
     ++counts_.malformed;
@@ -355,8 +382,22 @@ bool SemapBridge::onObjectsIn(scene_graph_tracker::ObjectsIn::Request& req,
 
 bool SemapBridge::onDirectional(scene_graph_tracker::DirectionalRelations::Request& req,
                                 scene_graph_tracker::DirectionalRelations::Response& res) {
+  std::optional<Eigen::Vector2d> viewer;
+  if (!req.viewer_frame.empty()) {
+    try {
+      const Eigen::Vector3d p = toEigen(tf_buffer_
+                                            .lookupTransform(map_frame_, req.viewer_frame,
+                                                             ::ros::Time(0), ::ros::Duration(0.5))
+                                            .transform)
+                                    .translation();
+      viewer = p.head<2>();
+    } catch (const tf2::TransformException& e) {
+      res.success = false, res.message = "viewer frame: " + std::string(e.what());
+      return true;
+    }
+  }
   return answer(res, [&](semap::SemapDb& db) {
-    res.relations = db.directionalRelations(req.a, req.b, req.mode);
+    res.relations = db.directionalRelations(req.a, req.b, req.mode, viewer);
   });
 }
 

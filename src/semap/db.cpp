@@ -64,16 +64,27 @@ ON CONFLICT (name) DO UPDATE SET min_x = EXCLUDED.min_x, min_y = EXCLUDED.min_y,
   max_x = EXCLUDED.max_x, max_y = EXCLUDED.max_y, max_z = EXCLUDED.max_z, box = EXCLUDED.box,
   hull = COALESCE(EXCLUDED.hull, c.hull))SQL";
 
-// $1 id, $2 class, $3 parent, $4 stamp (s), $5..$11 x y z qw qx qy qz
+// $1 id, $2 class, $3 parent, $4 stamp (s), $5..$11 x y z qw qx qy qz, $12 robot
 const char* kUpsertInstance = R"SQL(
-INSERT INTO instance AS i (id, class_name, parent, first_seen, last_seen, present, x, y, z, qw, qx, qy, qz, box)
+INSERT INTO instance AS i (id, class_name, parent, first_seen, last_seen, present, x, y, z, qw, qx, qy, qz, box, robot)
 SELECT $1, c.name, $3, to_timestamp($4), to_timestamp($4), true, $5, $6, $7, $8, $9, $10, $11,
-       semap_place(c.box, $5, $6, $7, $8, $9, $10, $11)
+       semap_place(c.box, $5, $6, $7, $8, $9, $10, $11), $12
 FROM object_class c WHERE c.name = $2
-ON CONFLICT (id) DO UPDATE SET class_name = EXCLUDED.class_name, parent = EXCLUDED.parent,
+ON CONFLICT (id) DO UPDATE SET class_name = EXCLUDED.class_name, parent = EXCLUDED.parent, robot = EXCLUDED.robot,
   last_seen = EXCLUDED.last_seen, present = true, x = EXCLUDED.x, y = EXCLUDED.y, z = EXCLUDED.z,
   qw = EXCLUDED.qw, qx = EXCLUDED.qx, qy = EXCLUDED.qy, qz = EXCLUDED.qz, box = EXCLUDED.box
 WHERE i.last_seen <= EXCLUDED.last_seen)SQL";
+
+// $1 id, $2 class, $3..$9 x y z qw qx qy qz: present and fixed from now on.
+const char* kUpsertFixed = R"SQL(
+INSERT INTO instance AS i (id, class_name, parent, first_seen, last_seen, present, fixed, x, y, z, qw, qx, qy, qz, box)
+SELECT $1, c.name, 'map', now(), now(), true, true, $3, $4, $5, $6, $7, $8, $9,
+       semap_place(c.box, $3, $4, $5, $6, $7, $8, $9)
+FROM object_class c WHERE c.name = $2
+ON CONFLICT (id) DO UPDATE SET class_name = EXCLUDED.class_name, parent = EXCLUDED.parent,
+  last_seen = EXCLUDED.last_seen, present = true, fixed = true, x = EXCLUDED.x, y = EXCLUDED.y,
+  z = EXCLUDED.z, qw = EXCLUDED.qw, qx = EXCLUDED.qx, qy = EXCLUDED.qy, qz = EXCLUDED.qz,
+  box = EXCLUDED.box)SQL";
 
 const char* kInsertPose = R"SQL(
 INSERT INTO pose_history (instance_id, stamp, parent, x, y, z, qw, qx, qy, qz, position, box)
@@ -159,11 +170,11 @@ SemapDb::WriteResult SemapDb::writeFrame(const Frame& frame) {
     if (!o.shape) continue;
     const Eigen::Vector3d t = o.T_world_object.translation();
     const Eigen::Quaterniond q(o.T_world_object.rotation());
-    for (const char* sql : {kUpsertInstance, kInsertPose}) {
-      const pqxx::result r = w.exec_params(sql, o.id, o.shape->name, o.parent, frame.stamp, t.x(),
-                                           t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
-      if (sql == kInsertPose) ++(r.affected_rows() > 0 ? result.pose_rows : result.duplicate_rows);
-    }
+    w.exec_params(kUpsertInstance, o.id, o.shape->name, o.parent, frame.stamp, t.x(), t.y(), t.z(),
+                  q.w(), q.x(), q.y(), q.z(), frame.robot);
+    const pqxx::result r = w.exec_params(kInsertPose, o.id, o.shape->name, o.parent, frame.stamp,
+                                         t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+    ++(r.affected_rows() > 0 ? result.pose_rows : result.duplicate_rows);
   }
   if (result.pose_rows == 0 && result.duplicate_rows > 0) {
     result.duplicate = true;
@@ -171,8 +182,9 @@ SemapDb::WriteResult SemapDb::writeFrame(const Frame& frame) {
   }
   if (frame.complete)
     w.exec_params(
-        "UPDATE instance SET present = false WHERE present AND last_seen < to_timestamp($1)",
-        frame.stamp);
+        "UPDATE instance SET present = false WHERE present AND NOT fixed AND robot = $2 AND "
+        "last_seen < to_timestamp($1)",
+        frame.stamp, frame.robot);
   if (frame.update_relations) {
     // In a subtransaction: when it fails (e.g. statement_timeout) the poses are still written.
     try {
@@ -188,6 +200,22 @@ SemapDb::WriteResult SemapDb::writeFrame(const Frame& frame) {
   w.commit();
   classes_written_.insert(new_classes.begin(), new_classes.end());
   return result;
+}
+
+void SemapDb::writeFixed(const std::vector<FixedObject>& objects) {
+  pqxx::work w(impl_->conn);
+  for (const FixedObject& o : objects) {
+    const std::string class_name = "furniture:" + o.id;
+    const Eigen::AlignedBox3d& b = o.box;
+    w.exec_params(kUpsertClass, class_name, b.min().x(), b.min().y(), b.min().z(), b.max().x(),
+                  b.max().y(), b.max().z(), "");
+    const Eigen::Vector3d t = o.T_world_object.translation();
+    const Eigen::Quaterniond q(o.T_world_object.rotation());
+    w.exec_params(kUpsertFixed, o.id, class_name, t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+  }
+  // now() is the transaction's start: what this call did not write is older.
+  w.exec("UPDATE instance SET present = false WHERE fixed AND last_seen < now()");
+  w.commit();
 }
 
 std::size_t SemapDb::pruneHistory(double before) {
@@ -231,15 +259,22 @@ std::vector<std::string> SemapDb::objectsIn(const std::string& reference, const 
   return ids;
 }
 
-std::vector<std::string> SemapDb::directionalRelations(const std::string& a, const std::string& b,
-                                                       const std::string& mode) {
+std::vector<std::string> SemapDb::directionalRelations(
+    const std::string& a, const std::string& b, const std::string& mode,
+    const std::optional<Eigen::Vector2d>& viewer) {
   if (a.empty() || b.empty())
     throw std::invalid_argument("directional relations need both objects");
+  if (viewer && !viewer->allFinite()) throw std::invalid_argument("viewer position not finite");
   pqxx::read_transaction w(impl_->conn);
-  const pqxx::result r = w.exec_params(
-      "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5, $6) WHERE relation NOT IN "
-      "('on', 'in')",
-      a, b, checkedMode(mode), settings_.factor, settings_.on_max_distance, settings_.tolerance);
+  const pqxx::result r =
+      viewer ? w.exec_params("SELECT * FROM semap_viewer_relations($1, $2, $3, $4, $5, $6, $7, $8)",
+                             a, b, checkedMode(mode), viewer->x(), viewer->y(), settings_.factor,
+                             settings_.on_max_distance, settings_.tolerance)
+             : w.exec_params(
+                   "SELECT relation FROM semap_relations($1, NULL, $2, $3, $4, $5, $6) WHERE "
+                   "relation NOT IN ('on', 'in')",
+                   a, b, checkedMode(mode), settings_.factor, settings_.on_max_distance,
+                   settings_.tolerance);
   std::vector<std::string> names;
   for (const pqxx::row& row : r) names.push_back(row[0].as<std::string>());
   return names;

@@ -76,6 +76,7 @@ bool SemapWriter::connect() {
   try {
     auto db = std::make_unique<SemapDb>(settings_);
     db->installSchema();
+    if (!options_.fixed_objects.empty()) db->writeFixed(options_.fixed_objects);
     db_ = std::move(db);
   } catch (const std::exception& e) {
     std::lock_guard<std::mutex> lock(mutex_);

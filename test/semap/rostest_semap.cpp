@@ -15,12 +15,15 @@
 #include <scene_graph_tracker/WhereWas.h>
 #include <signal.h>
 #include <sys/wait.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 
+#include <cstdio>
 #include <functional>
 #include <set>
 #include <tuple>
 
 #include "pg_server.hpp"
+#include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/relations/spatial_relations.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
@@ -46,13 +49,9 @@ class SemapBridgeTest : public ::testing::Test {
     catalog_ = loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml");
     const std::string port = "_db_port:=" + std::to_string(pg_->port()),
                       passfile = "_db_passfile:=" + pg_->settings().passfile;
-    node_ = fork();
-    if (node_ == 0) {
-      execl(SGT_SEMAP_BRIDGE_NODE, SGT_SEMAP_BRIDGE_NODE, "__name:=semap_bridge", port.c_str(),
-            passfile.c_str(), "_write_period:=0.0", "_relation_period:=0.0", "_backoff_max:=0.3",
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
+    std::vector<std::string> args = {"__name:=semap_bridge", port, passfile};
+    args.insert(args.end(), extra_args_.begin(), extra_args_.end());
+    node_ = startNode(args);
     ASSERT_GT(node_, 0);
     graph_pub_ = nh_.advertise<scene_graph_tracker::SceneGraph>("/scene_graph", 10);
     ASSERT_TRUE(
@@ -62,10 +61,30 @@ class SemapBridgeTest : public ::testing::Test {
       ::ros::Duration(0.05).sleep();
   }
   void TearDown() override {
-    if (node_ > 0) {
-      kill(node_, SIGINT);
-      waitpid(node_, nullptr, 0);
+    for (pid_t pid : {node_, second_node_})
+      if (pid > 0) {
+        kill(pid, SIGINT);
+        waitpid(pid, nullptr, 0);
+      }
+    // `_name:=value` arguments stay on the parameter server: the next test's node must not
+    // inherit this one's furniture or robot id.
+    for (const char* ns : {"/semap_bridge", "/semap_bridge_b"}) ::ros::param::del(ns);
+  }
+
+  // A semap_bridge process with these arguments (and fast writing and reconnection); its pid.
+  static pid_t startNode(std::vector<std::string> args) {
+    args.insert(args.begin(), SGT_SEMAP_BRIDGE_NODE);
+    for (const char* a : {"_write_period:=0.0", "_relation_period:=0.0", "_backoff_max:=0.3"})
+      args.push_back(a);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      execv(SGT_SEMAP_BRIDGE_NODE, argv.data());
+      _exit(127);
     }
+    return pid;
   }
 
   // The relay's pose on the KLT (box bottom 5 mm above the KLT's top), or away on the floor.
@@ -111,9 +130,10 @@ class SemapBridgeTest : public ::testing::Test {
     }
     return false;
   }
-  bool publishStored(double stamp, bool relay_on) {
+  // `prefix`: the bridge's robot id and '/' when it has one.
+  bool publishStored(double stamp, bool relay_on, const std::string& prefix = "") {
     publish(stamp, relay_on);
-    return waitStored("relay_1", stamp, [=] { publish(stamp, relay_on); });
+    return waitStored(prefix + "relay_1", stamp, [=] { publish(stamp, relay_on); });
   }
 
   // The engine's relations among the three boxes (world poses as published).
@@ -143,11 +163,12 @@ class SemapBridgeTest : public ::testing::Test {
     return out;
   }
 
+  std::vector<std::string> extra_args_;  // more node arguments, set before SetUp
   ::ros::NodeHandle nh_;
   ::ros::Publisher graph_pub_;
   std::unique_ptr<test::PgServer> pg_;
   ObjectCatalog catalog_;
-  pid_t node_ = -1;
+  pid_t node_ = -1, second_node_ = -1;
   const Eigen::Isometry3d T_klt_ = at(Eigen::Vector3d(0.5, 0.2, 0.8), 0.4);
   const Eigen::Isometry3d T_screwdriver_ = T_klt_ * at(Eigen::Vector3d(0.0, 0.3, 0.0));
 };
@@ -298,6 +319,104 @@ TEST_F(SemapBridgeTest, HostileNamesRoundTripAndOversizedOnesAreRefused) {
   for (int i = 0; i < 20 && c["messages_malformed"] < 1; ++i) c = bridgeCounters(nh_);
   EXPECT_EQ(c["messages_malformed"], 1);
   EXPECT_EQ(c["rejected"], c["duplicate_frames"]) << "the database refused only republished frames";
+}
+
+// The bridge with a furniture file: a bench under the KLT, stored as a fixed instance; and
+// directional relations seen from two viewer frames on either side of the KLT.
+class SemapFurnitureTest : public SemapBridgeTest {
+ protected:
+  SemapFurnitureTest() {
+    // A bench 0.78 m high (its box from the floor), its top 1 mm below the KLT's bottom.
+    const auto klt =
+        loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml").get("klt").box;
+    relations::Entity bench;
+    bench.name = "bench_1", bench.movable = false;
+    bench.box.half_extents = Eigen::Vector3d(0.8, 0.5, 0.39);
+    bench.box.T_world_box = T_klt_ * at(Eigen::Vector3d(0, 0, klt.min().z() - 0.391));
+    furniture_ = "/tmp/sgt_rostest_semap_furniture_" + std::to_string(getpid()) + ".yaml";
+    relations::saveFurniture({bench}, furniture_);
+    extra_args_ = {"_furniture:=" + furniture_};
+  }
+  ~SemapFurnitureTest() override { std::remove(furniture_.c_str()); }
+
+  std::vector<std::string> seenFrom(const std::string& frame, bool& success) {
+    scene_graph_tracker::DirectionalRelations dir;
+    dir.request.a = "screwdriver_1", dir.request.b = "klt_1", dir.request.viewer_frame = frame;
+    EXPECT_TRUE(::ros::service::call("/semap_bridge/directional_relations", dir));
+    success = dir.response.success;
+    return dir.response.relations;
+  }
+  std::string furniture_;
+};
+
+TEST_F(SemapFurnitureTest, FurnitureAnswersObjectsOnAndViewersSeeTheirOwnLeft) {
+  ASSERT_TRUE(publishStored(500.0, true));
+  scene_graph_tracker::ObjectsOn on;
+  on.request.reference = "bench_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/objects_on", on));
+  EXPECT_TRUE(on.response.success) << on.response.message;
+  const std::set<std::string> ids(on.response.ids.begin(), on.response.ids.end());
+  EXPECT_TRUE(ids.count("klt_1")) << "the KLT stands on the bench";
+  EXPECT_FALSE(ids.count("relay_1")) << "the relay is on the KLT";
+
+  tf2_ros::StaticTransformBroadcaster tf;
+  auto viewer = [&](const std::string& name, double x) {  // on the KLT's x axis, 2 m away
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = ::ros::Time::now(), t.header.frame_id = "map", t.child_frame_id = name;
+    t.transform = ros::toTransform(T_klt_ * at(Eigen::Vector3d(x, 0, 0.5)));
+    return t;
+  };
+  tf.sendTransform({viewer("behind_the_klt", -2.0), viewer("facing_the_klt", 2.0)});
+  bool success = false;
+  // The screwdriver is on the KLT's +y side: the left of a viewer looking along the KLT's +x.
+  EXPECT_EQ(seenFrom("behind_the_klt", success), std::vector<std::string>{"left_of"});
+  EXPECT_TRUE(success);
+  EXPECT_EQ(seenFrom("facing_the_klt", success), std::vector<std::string>{"right_of"});
+  EXPECT_TRUE(success);
+  EXPECT_TRUE(seenFrom("no_such_frame", success).empty());
+  EXPECT_FALSE(success);
+}
+
+// A fleet: two robots' bridges write into one database, each with its robot id. Both robots'
+// KLTs are stored under their own names; a complete frame of one robot leaves the other's
+// objects present; relations and where_was name the robot's objects.
+class SemapFleetTest : public SemapBridgeTest {
+ protected:
+  SemapFleetTest() { extra_args_ = {"_robot_id:=tiago_a"}; }
+};
+
+TEST_F(SemapFleetTest, TwoBridgesShareOneDatabase) {
+  second_node_ = startNode(
+      {"__name:=semap_bridge_b", "_robot_id:=tiago_b", "_db_port:=" + std::to_string(pg_->port()),
+       "_db_passfile:=" + pg_->settings().passfile, "scene_graph:=/robot_b/scene_graph"});
+  ASSERT_GT(second_node_, 0);
+  auto b_pub = nh_.advertise<scene_graph_tracker::SceneGraph>("/robot_b/scene_graph", 10);
+  ASSERT_TRUE(
+      ::ros::service::waitForService("/semap_bridge_b/relation_since", ::ros::Duration(60.0)));
+  ASSERT_TRUE(publishStored(600.0, true, "tiago_a/"));
+  // Robot b sees one KLT of its own, elsewhere, and keeps publishing it.
+  scene_graph_tracker::SceneGraph g;
+  g.header.stamp = ::ros::Time(601.0), g.header.frame_id = "map";
+  scene_graph_tracker::SceneGraphNode n;
+  n.id = "klt_1", n.class_name = "klt", n.parent = "map";
+  n.T_parent_node = ros::toTransform(at(Eigen::Vector3d(5.0, 5.0, 0.8)));
+  g.nodes.push_back(n);
+  ASSERT_TRUE(waitStored("tiago_b/klt_1", 601.0, [&] { b_pub.publish(g); }));
+
+  scene_graph_tracker::ObjectsOn on;  // robot a's relay is still on robot a's KLT
+  on.request.reference = "tiago_a/klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge_b/objects_on", on));
+  EXPECT_EQ(on.response.ids, std::vector<std::string>{"tiago_a/relay_1"});
+  scene_graph_tracker::WhereWas w;
+  w.request.id = "tiago_a/relay_1", w.request.stamp = ::ros::Time(700.0);
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/where_was", w));
+  ASSERT_TRUE(w.response.found);
+  EXPECT_EQ(w.response.parent, "tiago_a/klt_1");
+  scene_graph_tracker::QueryRelations q;
+  q.request.subject = "tiago_b/klt_1";
+  ASSERT_TRUE(::ros::service::call("/semap_bridge/query_relations", q));
+  EXPECT_TRUE(q.response.success) << q.response.message;
+  EXPECT_TRUE(q.response.relations.empty()) << "5 m from robot a's objects: no relation";
 }
 
 }  // namespace

@@ -80,5 +80,22 @@ TEST(BridgeRows, ALongParentChainNeedsNoDeepRecursion) {
   EXPECT_THROW(frameFromSceneGraph(g, 0, kShapes), ConversionError);
 }
 
+TEST(BridgeRows, ARobotIdPrefixesItsIdsAndTheParentsThatAreIds) {
+  scene_graph_tracker::SceneGraph g;
+  g.nodes = {node("relay_1", "relay", "klt_1", {0, 0, 0.1}),
+             node("klt_1", "klt", "map", {1, 2, 0})};
+  const semap::Frame f = forRobot(frameFromSceneGraph(g, 3.0, kShapes), "tiago_2");
+  EXPECT_EQ(f.robot, "tiago_2");
+  ASSERT_EQ(f.objects.size(), 2u);
+  EXPECT_EQ(f.objects[0].id, "tiago_2/relay_1");
+  EXPECT_EQ(f.objects[0].parent, "tiago_2/klt_1");
+  EXPECT_EQ(f.objects[1].id, "tiago_2/klt_1");
+  EXPECT_EQ(f.objects[1].parent, "map") << "the root frame is no object";
+  const semap::Frame alone = forRobot(frameFromSceneGraph(g, 3.0, kShapes), "");
+  EXPECT_EQ(alone.objects[0].id, "relay_1");
+  EXPECT_THROW(forRobot(alone, "a/b"), ConversionError);
+  EXPECT_THROW(forRobot(alone, std::string("a\0b", 3)), ConversionError);
+}
+
 }  // namespace
 }  // namespace sgt::ros

@@ -135,6 +135,36 @@ std::optional<std::set<Triple>> coreAnswers(const std::vector<semap::InstancePos
   return out;
 }
 
+// The engine's directional relations of t to r seen by a viewer at `viewer` (x, y) looking at r's
+// origin; nullopt near a boundary, as above.
+std::optional<std::set<std::string>> coreViewerAnswers(const semap::InstancePose& t,
+                                                       const semap::InstancePose& r,
+                                                       const Eigen::Vector2d& viewer, Mode mode,
+                                                       double delta = 5e-4) {
+  const Eigen::Vector2d sight = r.T_world_object.translation().head<2>() - viewer;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // x forward, level
+  T_world_camera.linear() =
+      Eigen::AngleAxisd(std::atan2(sight.y(), sight.x()), Eigen::Vector3d::UnitZ())
+          .toRotationMatrix();
+  T_world_camera.translation() << viewer, r.T_world_object.translation().z();
+  const OrientedBox tb = boxOf(t), rb = boxOf(r);
+  OrientedBox grown = tb, shrunk = tb;
+  grown.half_extents.array() += delta, shrunk.half_extents.array() -= delta;
+  std::set<std::string> out;
+  for (int k = 0; k < relations::kRelationCount; ++k) {
+    const auto rel = static_cast<Relation>(k);
+    if (!relations::isDirectional(rel)) continue;
+    auto holds = [&](const OrientedBox& b) {
+      return relations::holdsFromViewpoint(rel, mode, b, rb, T_world_camera, {},
+                                           Eigen::Vector3d::UnitX());
+    };
+    const bool h = holds(tb);
+    if (h != holds(grown) || h != holds(shrunk)) return std::nullopt;
+    if (h) out.insert(relations::relationName(rel));
+  }
+  return out;
+}
+
 // One server for the program, a fresh database for each test.
 class SemapSqlTest : public ::testing::Test {
  protected:
@@ -292,6 +322,106 @@ TEST_F(SemapSqlTest, InstancesMissingFromAFrameAreNotPresent) {
   db_->writeFrame(f);
   EXPECT_TRUE(db_->objectsOn("a", "strict").empty());
   EXPECT_EQ(db_->query("SELECT present FROM instance WHERE id = 'b'")[0][0], "f");
+}
+
+TEST_F(SemapSqlTest, ViewerRelationsEqualTheCoreEngineOnRandomScenes) {
+  SceneMaker maker(11);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), range(1.0, 5.0);
+  semap::Frame frame;
+  frame.stamp = 1.0, frame.update_relations = false;
+  struct Question {
+    std::string t, r;
+    Eigen::Vector2d viewer;
+    std::set<std::string> expected[2];  // strict, relaxed
+  };
+  std::vector<Question> questions;
+  std::map<std::string, int> seen;
+  for (int i = 0; questions.size() < 200; ++i) {
+    const auto scene = maker.scene(i);
+    const double a = angle(rng), d = range(rng);
+    const Eigen::Vector2d viewer = scene[0].T_world_object.translation().head<2>() +
+                                   d * Eigen::Vector2d(std::cos(a), std::sin(a));
+    for (int k = 1; k <= 2; ++k) {
+      const auto strict = coreViewerAnswers(scene[k], scene[0], viewer, Mode::Strict),
+                 relaxed = coreViewerAnswers(scene[k], scene[0], viewer, Mode::Relaxed);
+      if (!strict || !relaxed) continue;  // within 0.5 mm of a boundary
+      questions.push_back({scene[k].id, scene[0].id, viewer, {*strict, *relaxed}});
+      for (const auto& n : *strict) ++seen[n];
+      for (const auto& n : *relaxed) ++seen[n];
+    }
+    frame.objects.insert(frame.objects.end(), scene.begin(), scene.end());
+  }
+  db_->writeFrame(frame);
+  for (const Question& q : questions)
+    for (int m = 0; m < 2; ++m) {
+      const auto got = db_->directionalRelations(q.t, q.r, m ? "relaxed" : "strict", q.viewer);
+      EXPECT_EQ(std::set<std::string>(got.begin(), got.end()), q.expected[m])
+          << q.t << " to " << q.r << " seen from " << q.viewer.transpose() << (m ? " relaxed" : "");
+    }
+  for (const char* n : {"left_of", "right_of", "in_front_of", "behind", "above", "below"})
+    EXPECT_GE(seen[n], 5) << n << ": the scenes should show it";
+  EXPECT_THROW(db_->directionalRelations("a", "b", "strict", Eigen::Vector2d(NAN, 0)),
+               std::invalid_argument);
+}
+
+TEST_F(SemapSqlTest, ViewerLeftIsThePersonsLeft) {
+  const auto table = boxShape("table", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.5, 0.4, 0.05));
+  const auto cup = boxShape("cup", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.04, 0.04, 0.05));
+  semap::Frame f;
+  f.stamp = 1.0;
+  f.objects = {{"table_1", table, "map", at(0, 0, 0.7)}, {"cup_1", cup, "map", at(0, 0.9, 0.7)}};
+  db_->writeFrame(f);  // the cup beside the table, on its +y side
+  auto from = [&](double x, double y) {
+    return db_->directionalRelations("cup_1", "table_1", "strict", Eigen::Vector2d(x, y));
+  };
+  EXPECT_EQ(from(-3, 0), std::vector<std::string>{"left_of"});  // looking along +x
+  EXPECT_EQ(from(3, 0), std::vector<std::string>{"right_of"});  // looking along -x
+  EXPECT_EQ(from(0, 3), std::vector<std::string>{"in_front_of"});
+  EXPECT_EQ(from(0, -3), std::vector<std::string>{"behind"});
+  EXPECT_EQ(db_->directionalRelations("cup_1", "table_1", "strict"),
+            std::vector<std::string>{"left_of"});  // the table's own frame: +y is its left
+}
+
+TEST_F(SemapSqlTest, ARobotsCompleteFrameMarksOnlyItsOwnInstancesAbsent) {
+  const auto box = boxShape("crate", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.1, 0.1));
+  semap::Frame a, b;
+  a.stamp = 1.0, a.robot = "a", a.objects = {{"a/crate_1", box, "map", at(0, 0, 0)}};
+  b.stamp = 2.0, b.robot = "b", b.objects = {{"b/crate_1", box, "map", at(5, 0, 0)}};
+  db_->writeFrame(a);
+  db_->writeFrame(b);  // later and complete: robot a's crate stays present
+  EXPECT_EQ(db_->query("SELECT id, robot FROM instance WHERE present ORDER BY id"),
+            (std::vector<std::vector<std::string>>{{"a/crate_1", "a"}, {"b/crate_1", "b"}}));
+  b.stamp = 3.0, b.objects.clear();
+  db_->writeFrame(b);  // robot b sees nothing now
+  EXPECT_EQ(db_->query("SELECT id FROM instance WHERE present"),
+            (std::vector<std::vector<std::string>>{{"a/crate_1"}}));
+}
+
+TEST_F(SemapSqlTest, FurnitureIsFixedAndARelationReference) {
+  // A table as a box from the floor to its top (0.75 m): SEMAP's "on" region above it is 3.5 x
+  // that high, so it holds objects taller than a table top is thick.
+  const Eigen::Vector3d half(0.6, 0.4, 0.375);
+  semap::FixedObject table{"table_2", Eigen::AlignedBox3d(-half, half), at(2, 1, 0.375)};
+  db_->writeFixed({table});
+  const auto box = boxShape("klt", Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0.15, 0.1));
+  semap::Frame f;
+  f.stamp = 5.0;
+  f.objects = {{"klt_1", box, "map", at(2.1, 1.0, 0.75 + 0.1005)}};
+  db_->writeFrame(f);
+  EXPECT_EQ(db_->objectsOn("table_2", "strict"), std::vector<std::string>{"klt_1"});
+  f.stamp = 6.0;
+  db_->writeFrame(f);  // a complete frame without the table leaves it present
+  EXPECT_EQ(db_->query("SELECT present, fixed, class_name FROM instance WHERE id = 'table_2'")[0],
+            (std::vector<std::string>{"t", "t", "furniture:table_2"}));
+  EXPECT_TRUE(db_->relations("table_2", "", "", "strict").empty()) << "furniture is no subject";
+  EXPECT_EQ(db_->query("SELECT count(*) FROM pose_history WHERE instance_id = 'table_2'")[0][0],
+            "0");
+  semap::FixedObject shelf{"shelf_1", Eigen::AlignedBox3d(-half, half), at(5, 1, 1.2)};
+  db_->writeFixed({shelf, table});  // again, with a second piece: idempotent
+  db_->writeFixed({shelf});         // the table left the map
+  EXPECT_EQ(db_->query("SELECT id FROM instance WHERE fixed AND present")[0][0], "shelf_1");
+  EXPECT_TRUE(db_->objectsOn("table_2", "strict").empty());
 }
 
 }  // namespace

@@ -8,6 +8,9 @@
 // database is down and writes the backlog when it is back.
 // Services (answered by SQL on the database; success false + message when it is unreachable):
 //   ~query_relations, ~objects_on, ~objects_in, ~directional_relations, ~where_was, ~relation_since
+// The map's furniture (~furniture, relations/furniture.hpp) is stored as fixed instances, so
+// "what is on table_2" is answered; ~directional_relations takes a viewer frame (TF) too.
+// A fleet shares one database: each robot's bridge has its own ~robot_id (forRobot).
 // Parameters: config/semap.yaml.
 #pragma once
 
@@ -22,6 +25,8 @@
 #include <scene_graph_tracker/SceneGraph.h>
 #include <scene_graph_tracker/TrackedObjectArray.h>
 #include <scene_graph_tracker/WhereWas.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include <functional>
 #include <map>
@@ -53,6 +58,11 @@ semap::Frame frameFromSceneGraph(const scene_graph_tracker::SceneGraph& graph, d
                                  const ShapeLookup& shape);
 semap::Frame frameFromTrackedObjects(const scene_graph_tracker::TrackedObjectArray& objects,
                                      double stamp, const ShapeLookup& shape);
+
+// The frame as robot `robot` stores it in a database several robots share: its ids (and parents
+// that are ids of the frame) as '<robot>/<id>', and frame.robot set. An empty robot leaves the
+// frame as it is. Throws ConversionError for a robot id that is not a valid name or holds '/'.
+semap::Frame forRobot(semap::Frame frame, const std::string& robot);
 
 // What became of the messages. Every message in is throttled (~write_period), malformed or
 // pushed to the writer; missed counts messages that never arrived (header.seq gaps).
@@ -106,6 +116,12 @@ class SemapBridge {
 
   std::mutex query_mutex_;
   std::unique_ptr<semap::SemapDb> query_db_;
+
+  std::string robot_id_;  // several robots in one database: prefixes the ids (forRobot)
+  std::string map_frame_ =
+      "map";  // the frame of the stored poses (viewer frames are looked up in it)
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_{tf_buffer_};
 
   ::ros::Subscriber sub_;
   ::ros::CallbackQueue service_queue_;

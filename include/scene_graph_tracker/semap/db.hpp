@@ -50,10 +50,19 @@ struct InstancePose {
   Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();
 };
 
+// A fixed instance: a piece of the map's furniture (a table, shelf or cart top) that objects are
+// on, in or beside. Stored with a class of its own ('furniture:' + id) holding its box.
+struct FixedObject {
+  std::string id;
+  Eigen::AlignedBox3d box;  // in its own frame
+  Eigen::Isometry3d T_world_object = Eigen::Isometry3d::Identity();
+};
+
 // One scene-graph message: every object present at `stamp` (seconds). Instances missing from a
 // complete frame are marked absent.
 struct Frame {
   double stamp = 0.0;
+  std::string robot;  // who wrote it; a complete frame marks only this robot's instances absent
   std::vector<InstancePose> objects;
   bool complete = true;
   bool update_relations = true;  // also record the relation intervals at this stamp
@@ -94,6 +103,9 @@ class SemapDb {
     bool duplicate = false;
   };
   WriteResult writeFrame(const Frame& frame);
+  // One transaction: the fixed instances are exactly `objects` (present, not movable by frames);
+  // fixed instances of an earlier call that are not among them are marked absent.
+  void writeFixed(const std::vector<FixedObject>& objects);
   // Deletes history older than `before` (s): pose rows, relation intervals that ended, and absent
   // instances left without poses. Returns the rows deleted.
   std::size_t pruneHistory(double before);
@@ -103,8 +115,11 @@ class SemapDb {
                                      const std::string& object, const std::string& mode);
   std::vector<std::string> objectsOn(const std::string& reference, const std::string& mode);
   std::vector<std::string> objectsIn(const std::string& reference, const std::string& mode);
-  std::vector<std::string> directionalRelations(const std::string& a, const std::string& b,
-                                                const std::string& mode);
+  // In b's own frame, or with `viewer` (x, y in the world frame) as a person there looking at b
+  // says it: left_of is the viewer's left (relations/spatial_relations.hpp, holdsFromViewpoint).
+  std::vector<std::string> directionalRelations(
+      const std::string& a, const std::string& b, const std::string& mode,
+      const std::optional<Eigen::Vector2d>& viewer = std::nullopt);
   std::optional<PoseAt> whereWas(const std::string& id, double stamp);
   SinceAnswer relationSince(const std::string& subject, const std::string& relation,
                             const std::string& object, const std::string& mode);

@@ -28,6 +28,9 @@ struct WriterOptions {
   double history_retention_s = 0.0;  // pose and relation history older than this (message time,
                                      // behind the newest frame) is deleted; 0: kept for ever
   double prune_period_s = 10.0;      // message time between prunings
+  // The map's furniture, written at every connection (SemapDb::writeFixed); empty: the fixed
+  // instances in the database are left as they are.
+  std::vector<FixedObject> fixed_objects;
 };
 
 struct WriterStats {
