@@ -208,6 +208,9 @@ class Evaluation {
   std::map<std::string, std::string> scoreObjects(const sgt::ros::BagFrame& bf,
                                                   const sgt::PipelineResult& r);
   bool inView(const sgt::ros::BagFrame& bf, const Eigen::Isometry3d& T_map_object) const;
+  // The depth residual of every track on the frame's camera image (no ground truth needed), into
+  // fits_ and the report's per-track figures.
+  void fitTracks(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r);
   void fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r,
                    const std::vector<int>& match);
   void drawOverlay(const sgt::ros::RgbFrame& rgb, const std::vector<sgt::PosedObject>& tracks,
@@ -234,6 +237,14 @@ class Evaluation {
   std::set<std::string> detected_;  // true objects a hypothesis has found (scored from then on)
   std::map<std::string, std::string> last_match_;  // true object -> its track last frame
   bool first_ = true;
+  struct TrackFits {  // this frame's, by fitTracks
+    const sgt::RangeMeasurements* cam = nullptr;
+    Eigen::Isometry3d T_base_camera = Eigen::Isometry3d::Identity();
+    std::vector<sgt::PosedObject> tracks;  // not tentative, in the camera frame
+    std::vector<sgt::SurfaceFit> fits;
+    std::vector<int> owner;  // with --overlay: the track each pixel shows
+    std::vector<int> index;  // per r.objects entry: its place in tracks, or -1
+  } fits_;
 };
 
 Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag, args.topics) {
@@ -321,6 +332,7 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;
   report_.addFrame(r.stamp, r.times);
+  fitTracks(bf, r);
   if (bf.truth) score(bf, r);
 }
 
@@ -492,24 +504,50 @@ std::map<std::string, std::string> Evaluation::scoreObjects(const sgt::ros::BagF
 
 // The depth residual of each scored object's track and of its true pose on the camera image
 // (evaluation/surface_fit.hpp); with --overlay, both outlines on the colour image.
+void Evaluation::fitTracks(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r) {
+  fits_ = TrackFits{};
+  for (const sgt::RangeMeasurements& m : bf.frame.measurements)
+    if (std::holds_alternative<sgt::PinholeModel>(m.model)) fits_.cam = &m;
+  fits_.index.assign(r.objects.size(), -1);
+  if (fits_.cam) {
+    fits_.T_base_camera = bf.frame.T_odom_base.inverse() * fits_.cam->T_world_sensor;
+    const Eigen::Isometry3d T_camera_map = (r.T_map_base * fits_.T_base_camera).inverse();
+    for (std::size_t k = 0; k < r.objects.size(); ++k)
+      if (r.objects[k].state != sgt::TrackState::kTentative) {
+        fits_.index[k] = static_cast<int>(fits_.tracks.size());
+        fits_.tracks.push_back(
+            {r.objects[k].id, r.objects[k].class_name, T_camera_map * r.objects[k].T_map_object});
+      }
+    fits_.fits = surface_->fit(*fits_.cam, fits_.tracks, overlay_ ? &fits_.owner : nullptr);
+  }
+  std::size_t confirmed = 0;
+  for (std::size_t k = 0; k < r.objects.size(); ++k) {
+    const sgt::TrackedObject& o = r.objects[k];
+    sgt::TrackSample s{r.stamp,           o.id,
+                       o.class_name,      o.state != sgt::TrackState::kTentative,
+                       o.quality.inliers, o.quality.inlier_ratio,
+                       std::nullopt};
+    const int i = fits_.index[k];
+    if (i >= 0 && fits_.fits[i].visible_pixels > 0)
+      s.depth_residual_m = fits_.fits[i].median_residual_m;
+    confirmed += s.confirmed;
+    report_.tracks().add(s);
+  }
+  report_.tracks().addFrame(r.stamp, confirmed);
+  if (!bf.truth && overlay_ && bf.rgb)  // with ground truth, fitSurfaces draws both outlines
+    drawOverlay(*bf.rgb, fits_.tracks, fits_.fits, fits_.owner, {}, 0);
+}
+
 void Evaluation::fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineResult& r,
                              const std::vector<int>& match) {
-  const sgt::RangeMeasurements* cam = nullptr;
-  for (const sgt::RangeMeasurements& m : bf.frame.measurements)
-    if (std::holds_alternative<sgt::PinholeModel>(m.model)) cam = &m;
+  const sgt::RangeMeasurements* cam = fits_.cam;
   if (!cam) return;
-  const Eigen::Isometry3d T_base_camera = bf.frame.T_odom_base.inverse() * cam->T_world_sensor;
-  const Eigen::Isometry3d T_camera_map = (r.T_map_base * T_base_camera).inverse();
   const Eigen::Isometry3d T_camera_map_true =
-      bf.truth->T_map_base ? (*bf.truth->T_map_base * T_base_camera).inverse() : T_camera_map;
-  std::vector<sgt::PosedObject> tracks, given;
-  std::vector<int> track_index(r.objects.size(), -1);
-  for (std::size_t k = 0; k < r.objects.size(); ++k)
-    if (r.objects[k].state != sgt::TrackState::kTentative) {
-      track_index[k] = static_cast<int>(tracks.size());
-      tracks.push_back(
-          {r.objects[k].id, r.objects[k].class_name, T_camera_map * r.objects[k].T_map_object});
-    }
+      bf.truth->T_map_base ? (*bf.truth->T_map_base * fits_.T_base_camera).inverse()
+                           : (r.T_map_base * fits_.T_base_camera).inverse();
+  const std::vector<sgt::PosedObject>& tracks = fits_.tracks;
+  const std::vector<int>& track_index = fits_.index;
+  std::vector<sgt::PosedObject> given;
   const auto& truth = bf.truth->objects;
   std::vector<int> truth_index(truth.size(), -1);
   for (std::size_t i = 0; i < truth.size(); ++i)
@@ -518,8 +556,8 @@ void Evaluation::fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineRe
       given.push_back(
           {truth[i].id, truth[i].class_name, T_camera_map_true * truth[i].T_map_object});
     }
-  std::vector<int> track_owner, given_owner;
-  const auto track_fits = surface_->fit(*cam, tracks, overlay_ ? &track_owner : nullptr);
+  std::vector<int> given_owner;
+  const auto& track_fits = fits_.fits;
   const auto given_fits = surface_->fit(*cam, given, overlay_ ? &given_owner : nullptr);
   const auto residual = [](const sgt::SurfaceFit& f) {
     return f.visible_pixels > 0 ? std::optional<double>(f.median_residual_m) : std::nullopt;
@@ -531,7 +569,7 @@ void Evaluation::fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineRe
                           residual(given_fits[truth_index[i]]));
   }
   if (overlay_ && bf.rgb)
-    drawOverlay(*bf.rgb, tracks, track_fits, track_owner, given_owner, given.size());
+    drawOverlay(*bf.rgb, tracks, track_fits, fits_.owner, given_owner, given.size());
 }
 
 void Evaluation::drawOverlay(const sgt::ros::RgbFrame& rgb,

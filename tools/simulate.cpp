@@ -3,7 +3,8 @@
 // format").
 //
 //   rosrun scene_graph_tracker simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR]
-//   [--lz4] [--quiet]
+//   [--duration S] [--lz4] [--quiet]
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -15,12 +16,14 @@
 namespace {
 
 void usage(std::ostream& os) {
-  os << "usage: simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR] [--lz4] [--quiet]\n"
+  os << "usage: simulate --scenario FILE.yaml --output OUT.bag [--mesh-dir DIR] [--duration S] "
+        "[--lz4] [--quiet]\n"
         "  --scenario  the scenario (format: README.md, \"Scenario format\")\n"
         "  --output    the bag to write (overwritten)\n"
         "  --mesh-dir  use the meshes in DIR for the catalog classes (e.g. "
         "../shared/data/pbr_objects/meshes),\n"
         "              replacing the scenario's mesh_dir\n"
+        "  --duration  only the scenario's first S seconds\n"
         "  --lz4       compress the bag with LZ4\n"
         "  --quiet     no progress bar\n";
 }
@@ -29,6 +32,7 @@ void usage(std::ostream& os) {
 
 int main(int argc, char** argv) {
   std::string scenario_path, output, mesh_dir;
+  double duration = 0.0;  // > 0: the scenario's first seconds only
   bool lz4 = false, quiet = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -46,6 +50,8 @@ int main(int argc, char** argv) {
       output = value();
     else if (a == "--mesh-dir")
       mesh_dir = value();
+    else if (a == "--duration")
+      duration = std::stod(value());
     else if (a == "--lz4")
       lz4 = true;
     else if (a == "--quiet")
@@ -71,7 +77,8 @@ int main(int argc, char** argv) {
   try {
     sgt::sim::ScenarioLoadOptions load;
     load.mesh_dir_override = mesh_dir;
-    const sgt::sim::Scenario scenario = sgt::sim::loadScenario(scenario_path, load);
+    sgt::sim::Scenario scenario = sgt::sim::loadScenario(scenario_path, load);
+    if (duration > 0.0) scenario.duration = std::min(scenario.duration, duration);
     if (!quiet)
       std::cerr << "simulate: " << scenario_path << ": " << scenario.duration << " s, "
                 << scenario.objects.size() << " objects, " << scenario.distractors.size()

@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include "scene_graph_tracker/evaluation/json_number.hpp"
+
 namespace sgt {
 namespace {
 
@@ -22,13 +24,6 @@ double mean(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x;
   return v.empty() ? 0.0 : s / v.size();
-}
-
-std::string num(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream o;
-  o << std::setprecision(6) << x;
-  return o.str();
 }
 
 struct ObjectStats {
@@ -63,20 +58,19 @@ struct ObjectStats {
     o << indent << "\"evaluated\": " << evaluated << ",\n"
       << indent << "\"missed\": " << missed << ",\n"
       << indent << "\"out_of_view\": " << out_of_view << ",\n"
-      << indent << "\"add_s_mean_mm\": " << num(mean(add_s)) << ",\n"
-      << indent << "\"add_mean_mm\": " << num(mean(add)) << ",\n"
-      << indent << "\"recall_adds_10\": " << num(recall()) << ",\n"
-      << indent << "\"translation_error_mean_mm\": " << num(mean(t)) << ",\n"
-      << indent << "\"rotation_error_mean_deg\": " << num(mean(r)) << ",\n"
-      << indent << "\"add_or_adds_mean_mm\": " << num(mean(add_or_adds)) << ",\n"
-      << indent << "\"recall_add_or_adds_10\": " << num(recallAddOrAdds());
+      << indent << "\"add_s_mean_mm\": " << jsonNumber(mean(add_s)) << ",\n"
+      << indent << "\"add_mean_mm\": " << jsonNumber(mean(add)) << ",\n"
+      << indent << "\"recall_adds_10\": " << jsonNumber(recall()) << ",\n"
+      << indent << "\"translation_error_mean_mm\": " << jsonNumber(mean(t)) << ",\n"
+      << indent << "\"rotation_error_mean_deg\": " << jsonNumber(mean(r)) << ",\n"
+      << indent << "\"add_or_adds_mean_mm\": " << jsonNumber(mean(add_or_adds)) << ",\n"
+      << indent << "\"recall_add_or_adds_10\": " << jsonNumber(recallAddOrAdds());
     if (!depth_mm.empty() || !gt_depth_mm.empty())
       o << ",\n"
-        << indent
-        << "\"depth_residual_median_mm\": " << num(depth_mm.empty() ? NAN : quantile(depth_mm, 0.5))
-        << ",\n"
+        << indent << "\"depth_residual_median_mm\": "
+        << jsonNumber(depth_mm.empty() ? NAN : quantile(depth_mm, 0.5)) << ",\n"
         << indent << "\"gt_depth_residual_median_mm\": "
-        << num(gt_depth_mm.empty() ? NAN : quantile(gt_depth_mm, 0.5));
+        << jsonNumber(gt_depth_mm.empty() ? NAN : quantile(gt_depth_mm, 0.5));
     return o.str();
   }
 };
@@ -143,14 +137,12 @@ std::string EvaluationReport::hypothesesJson() const {
     std::ostringstream o;
     o << indent << "\"evaluated\": " << c.evaluated << ",\n"
       << indent << "\"found\": " << c.found << ",\n"
-      << indent
-      << "\"recall\": " << num(c.evaluated ? static_cast<double>(c.found) / c.evaluated : NAN)
-      << ",\n"
-      << indent
-      << "\"translation_error_median_mm\": " << num(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5))
-      << ",\n"
-      << indent
-      << "\"rotation_error_median_deg\": " << num(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
+      << indent << "\"recall\": "
+      << jsonNumber(c.evaluated ? static_cast<double>(c.found) / c.evaluated : NAN) << ",\n"
+      << indent << "\"translation_error_median_mm\": "
+      << jsonNumber(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << ",\n"
+      << indent << "\"rotation_error_median_deg\": "
+      << jsonNumber(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
     return o.str();
   };
   HypothesisCounts all;
@@ -249,34 +241,35 @@ std::string EvaluationReport::json() const {
   }
   o << "\n    }\n  },\n"
     << hypothesesJson() << "  \"localization\": {\n    \"frames\": " << lt.size()
-    << ",\n    \"translation_error_mean_mm\": " << num(mean(lt))
-    << ",\n    \"rotation_error_mean_deg\": " << num(mean(lr))
+    << ",\n    \"translation_error_mean_mm\": " << jsonNumber(mean(lt))
+    << ",\n    \"rotation_error_mean_deg\": " << jsonNumber(mean(lr))
     << ",\n    \"translation_error_max_mm\": "
-    << num(lt.empty() ? NAN : *std::max_element(lt.begin(), lt.end())) << "\n  },\n"
+    << jsonNumber(lt.empty() ? NAN : *std::max_element(lt.begin(), lt.end())) << "\n  },\n"
     << "  \"presegmentation\": {\n    \"reduction\": "
-    << num(labels_.lidar_valid
-               ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid
-               : NAN)
-    << ",\n    \"precision\": " << num(ratio(labels_.tp, labels_.tp + labels_.fp))
-    << ",\n    \"recall\": " << num(ratio(labels_.tp, labels_.tp + labels_.fn))
+    << jsonNumber(labels_.lidar_valid
+                      ? 1.0 - static_cast<double>(labels_.lidar_unknown) / labels_.lidar_valid
+                      : NAN)
+    << ",\n    \"precision\": " << jsonNumber(ratio(labels_.tp, labels_.tp + labels_.fp))
+    << ",\n    \"recall\": " << jsonNumber(ratio(labels_.tp, labels_.tp + labels_.fn))
     << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid
     << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown << "\n  },\n";
   if (relation_frames_ > 0)
     o << "  \"relations\": {\n    \"precision\": "
-      << num(ratio(relations_.tp, relations_.tp + relations_.fp))
-      << ",\n    \"recall\": " << num(ratio(relations_.tp, relations_.tp + relations_.fn))
+      << jsonNumber(ratio(relations_.tp, relations_.tp + relations_.fp))
+      << ",\n    \"recall\": " << jsonNumber(ratio(relations_.tp, relations_.tp + relations_.fn))
       << ",\n    \"true_positives\": " << relations_.tp
       << ",\n    \"false_positives\": " << relations_.fp
       << ",\n    \"false_negatives\": " << relations_.fn
       << ",\n    \"frames\": " << relation_frames_ << ",\n    \"declared\": " << declared_relations_
       << "\n  },\n";
-  o << "  \"timing\": {\n    \"frame_ms_median\": " << num(quantile(total, 0.5))
-    << ",\n    \"frame_ms_p95\": " << num(quantile(total, 0.95))
-    << ",\n    \"localize_ms_median\": " << num(quantile(loc, 0.5))
-    << ",\n    \"refine_ms_median\": " << num(quantile(refine, 0.5))
-    << ",\n    \"presegment_ms_median\": " << num(quantile(preseg, 0.5))
-    << ",\n    \"relations_ms_median\": " << num(quantile(relations, 0.5))
-    << ",\n    \"detect_ms_median\": " << num(quantile(detect, 0.5)) << "\n  }\n}\n";
+  o << tracks_.json("  ") << ",\n";
+  o << "  \"timing\": {\n    \"frame_ms_median\": " << jsonNumber(quantile(total, 0.5))
+    << ",\n    \"frame_ms_p95\": " << jsonNumber(quantile(total, 0.95))
+    << ",\n    \"localize_ms_median\": " << jsonNumber(quantile(loc, 0.5))
+    << ",\n    \"refine_ms_median\": " << jsonNumber(quantile(refine, 0.5))
+    << ",\n    \"presegment_ms_median\": " << jsonNumber(quantile(preseg, 0.5))
+    << ",\n    \"relations_ms_median\": " << jsonNumber(quantile(relations, 0.5))
+    << ",\n    \"detect_ms_median\": " << jsonNumber(quantile(detect, 0.5)) << "\n  }\n}\n";
   return o.str();
 }
 
@@ -310,7 +303,7 @@ std::string EvaluationReport::markdown() const {
       o << sep << ids.size() << " " << c << (ids.size() == 1 ? " track" : " tracks"), sep = ", ";
     o << ".\n";
   }
-  o << surfaceMarkdown();
+  o << surfaceMarkdown() << tracks_.markdown();
   o << hypothesesMarkdown();
   std::vector<double> lt, lr, total;
   for (const FrameRow& f : frames_) {
@@ -354,7 +347,7 @@ std::string EvaluationReport::surfaceMarkdown() const {
            "| object | tracked pose | given pose | frames fitted |\n|---|---|---|---|\n";
     any = true;
     const auto med = [](const std::vector<double>& v) {
-      return v.empty() ? std::string("–") : num(std::round(quantile(v, 0.5) * 100) / 100);
+      return v.empty() ? std::string("–") : jsonNumber(std::round(quantile(v, 0.5) * 100) / 100);
     };
     o << "| " << id << " | " << med(s.depth_mm) << " | " << med(s.gt_depth_mm) << " | "
       << s.depth_mm.size() << " |\n";
@@ -367,20 +360,25 @@ std::string EvaluationReport::timeseriesCsv() const {
   o << std::setprecision(15);  // stamps are ~1.7e9 s: keep the milliseconds
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
-       "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm\n";
+       "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm,inliers,inlier_ratio,"
+       "confirmed\n";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
-      << (r.e ? num(r.e->add_s * 1000) : "") << "," << (r.e ? num(r.e->add * 1000) : "") << ","
-      << (r.e ? num(r.e->translation * 1000) : "") << "," << (r.e ? num(r.e->rotation_deg) : "")
-      << ",,,,,,,," << r.track << "," << (r.depth_residual_m ? num(*r.depth_residual_m * 1000) : "")
-      << "," << (r.gt_depth_residual_m ? num(*r.gt_depth_residual_m * 1000) : "") << "\n";
+      << (r.e ? jsonNumber(r.e->add_s * 1000) : "") << ","
+      << (r.e ? jsonNumber(r.e->add * 1000) : "") << ","
+      << (r.e ? jsonNumber(r.e->translation * 1000) : "") << ","
+      << (r.e ? jsonNumber(r.e->rotation_deg) : "") << ",,,,,,,," << r.track << ","
+      << (r.depth_residual_m ? jsonNumber(*r.depth_residual_m * 1000) : "") << ","
+      << (r.gt_depth_residual_m ? jsonNumber(*r.gt_depth_residual_m * 1000) : "") << ",,,\n";
   for (const FalsePositiveRow& f : false_positives_)
     o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
-      << f.track_id << ",,\n";
+      << f.track_id << ",,,,,\n";
   for (const FrameRow& f : frames_)
     o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms
       << "," << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
-      << (f.loc_t ? num(*f.loc_t * 1000) : "") << "," << (f.loc_r ? num(*f.loc_r) : "") << ",,,\n";
+      << (f.loc_t ? jsonNumber(*f.loc_t * 1000) : "") << ","
+      << (f.loc_r ? jsonNumber(*f.loc_r) : "") << ",,,,,,\n";
+  o << tracks_.csvRows();
   return o.str();
 }
 

@@ -38,16 +38,19 @@ void DetectorNodelet::onInit() {
   const detection::PnpOptions& pnp = p.pnp;
   try {
     const ObjectCatalog catalog = loadObjectCatalog(catalog_path, mesh_dir);
-    detector_ = std::make_unique<detection::PoseDetector>(model, catalog, decode, pnp);
+    detector_ = std::make_unique<detection::PoseDetector>(model, catalog, decode, pnp, p.inference);
   } catch (const std::exception& e) {
     // Without a model there is nothing to do; say so loudly once and stay up (the rest of the
     // manager keeps running, the tracker can still use other hypothesis sources).
     NODELET_ERROR("detector: disabled: %s", e.what());
     return;
   }
+  if (!detector_->keypoints().inferenceNote().empty())
+    NODELET_WARN("detector: %s", detector_->keypoints().inferenceNote().c_str());
   const auto& info = detector_->keypoints().info();
-  NODELET_INFO("detector: %s (%dx%d input, %zu classes), score >= %.2f", info.onnx_path.c_str(),
-               info.input_width, info.input_height, info.names.size(), decode.score_threshold);
+  NODELET_INFO("detector: %s (%dx%d input, %zu classes), score >= %.2f, DNN %s / %s",
+               info.onnx_path.c_str(), info.input_width, info.input_height, info.names.size(),
+               decode.score_threshold, p.inference.backend.c_str(), p.inference.target.c_str());
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   depth_max_offset_ = p.depth_max_offset;

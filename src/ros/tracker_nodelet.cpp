@@ -13,6 +13,7 @@
 
 #include "scene_graph_tracker/relations/furniture.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
+#include "scene_graph_tracker/ros/map_markers.hpp"
 #include "scene_graph_tracker/ros/parameters.hpp"
 #include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/ros/track_id_store.hpp"
@@ -105,6 +106,8 @@ void TrackerNodelet::onInit() {
   graph_pub_ = pnh.advertise<scene_graph_tracker::SceneGraph>("scene_graph", 5);
   unassigned_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("unassigned_points", 2);
   markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 2);
+  map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);
+  map_markers_pub_.publish(mapMarkers(*map, pipeline_->furniture(), map_frame_));
   diagnostics_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 5);
   depth_sub_.subscribe(nh, "depth/image", 3, p.node.depth_transport,
                        [this](const std::string& text) { onUndecodable(text); });

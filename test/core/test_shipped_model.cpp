@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
+#include <opencv2/dnn.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -53,6 +54,28 @@ TEST(ShippedModel, LoadsAndFitsItsMetadata) {
                             "/models/sgt_keypoints.yaml");  // runs one pass
   std::ifstream onnx(info.onnx_path, std::ios::binary | std::ios::ate);
   EXPECT_LT(static_cast<double>(onnx.tellg()), 10e6) << "the shipped model must stay under 10 MB";
+}
+
+// A backend / target this OpenCV cannot run falls back to opencv / cpu with a note, and detects
+// exactly what the default does; unknown names are refused.
+TEST(ShippedModel, UnavailableInferenceTargetFallsBackToTheCpu) {
+  const std::string yaml = std::string(SGT_SOURCE_DIR) + "/models/sgt_keypoints.yaml";
+  const auto cuda = cv::dnn::getAvailableTargets(cv::dnn::DNN_BACKEND_CUDA);
+  KeypointDetector asked(yaml, {}, InferenceOptions{"cuda", "cuda_fp16"});
+  if (cuda.empty()) {
+    EXPECT_NE(asked.inferenceNote().find("not available"), std::string::npos)
+        << asked.inferenceNote();
+    cv::Mat bgr = cv::imread(kDir + "frame.png", cv::IMREAD_COLOR), rgb;
+    ASSERT_FALSE(bgr.empty());
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+    KeypointDetector cpu(yaml);
+    EXPECT_TRUE(cpu.inferenceNote().empty());
+    const auto a = asked.detect(rgb), b = cpu.detect(rgb);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].score, b[k].score);
+  }
+  EXPECT_THROW(KeypointDetector(yaml, {}, InferenceOptions{"tensorrt", "cpu"}), DetectorError);
+  EXPECT_THROW(KeypointDetector(yaml, {}, InferenceOptions{"opencv", "gpu"}), DetectorError);
 }
 
 TEST(ShippedModel, FindsTheObjectsOfAHeldOutRender) {

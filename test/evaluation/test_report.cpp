@@ -2,6 +2,9 @@
 // switches, the pre-segmentation ratios and the hypotheses' share and errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
+
 #include "scene_graph_tracker/evaluation/report.hpp"
 
 namespace sgt {
@@ -123,10 +126,48 @@ TEST(EvaluationReport, DepthResidualsAreMediansOverFramesPerObjectAndOverall) {
   EXPECT_TRUE(has(j, "\"gt_depth_residual_median_mm\": 6\n")) << j;  // the cube: 5, 7
   EXPECT_TRUE(has(j, "\"depth_residual_median_mm\": null")) << j;    // the dragon
   EXPECT_TRUE(has(r.markdown(), "| cube | 3 | 6 | 2 |")) << r.markdown();
-  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5\n")) << r.timeseriesCsv();
+  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5,,,\n")) << r.timeseriesCsv();
   EvaluationReport none;
   none.addObject(0, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
   EXPECT_FALSE(has(none.json(), "depth_residual")) << "reports without fits keep their keys";
+}
+
+// Without ground truth: per confirmed track the medians of its fit support, inlier ratio and depth
+// residual; the track count per frame; "track" rows with as many columns as the header.
+TEST(EvaluationReport, TrackFiguresNeedNoGroundTruth) {
+  EvaluationReport r;
+  r.addFrame(0, {});
+  r.tracks().add({0, "klt_1", "klt", true, 400, 0.9, 0.002});
+  r.tracks().add({0, "relay_1", "relay", false, 10, 0.2, std::nullopt});  // tentative
+  r.tracks().addFrame(0, 1);
+  r.addFrame(1, {});
+  r.tracks().add({1, "klt_1", "klt", true, 300, 0.7, 0.004});
+  r.tracks().add({1, "relay_1", "relay", true, 50, 0.5, std::nullopt});
+  r.tracks().addFrame(1, 2);
+  const std::string j = r.json();
+  EXPECT_TRUE(has(j, "\"count_median\": 1.5,")) << j;
+  EXPECT_TRUE(has(j, "\"count_max\": 2,")) << j;
+  EXPECT_TRUE(has(j,
+                  "\"klt_1\": {\"class\": \"klt\", \"frames\": 2, \"inliers_median\": 350, "
+                  "\"inlier_ratio_median\": 0.8, \"depth_residual_median_mm\": 3}"))
+      << j;
+  EXPECT_TRUE(has(j,
+                  "\"relay_1\": {\"class\": \"relay\", \"frames\": 1, \"inliers_median\": 50, "
+                  "\"inlier_ratio_median\": 0.5, \"depth_residual_median_mm\": null}"))
+      << j;
+  EXPECT_TRUE(has(r.markdown(), "| klt_1 | klt | 2 | 350.00 | 0.80 | 3.00 |")) << r.markdown();
+  std::istringstream csv(r.timeseriesCsv());
+  std::string line;
+  std::getline(csv, line);
+  const auto columns = std::count(line.begin(), line.end(), ',');
+  int tracks = 0;
+  while (std::getline(csv, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), columns) << line;
+    tracks += line.rfind("track,", 0) == 0;
+  }
+  EXPECT_EQ(tracks, 4);
+  EXPECT_TRUE(has(r.timeseriesCsv(), "track,1,klt_1,klt,,,,,,,,,,,,klt_1,4,,300,0.7,1\n"))
+      << r.timeseriesCsv();
 }
 
 }  // namespace

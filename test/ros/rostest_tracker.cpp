@@ -6,6 +6,7 @@
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <ros/topic.h>
 #include <std_srvs/Empty.h>
 
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
@@ -102,6 +103,23 @@ TEST_F(TrackerNodeTest, ConvergesCoastsAndSurvivesBadInput) {
   run(4, false);
   EXPECT_LT(worstError(matched), 0.005);
   EXPECT_EQ(matched, 5u);
+}
+
+// The static map and its furniture, latched for rviz: every triangle of the building the node
+// loaded, and the workbench box with its name.
+TEST_F(TrackerNodeTest, PublishesTheStaticMapAndFurnitureForRviz) {
+  const auto m = ::ros::topic::waitForMessage<visualization_msgs::MarkerArray>(
+      "/tracker/map_markers", ::ros::Duration(30.0));
+  ASSERT_TRUE(m) << "no latched map markers";
+  std::size_t points = 0;
+  std::vector<std::string> names;
+  for (const auto& k : m->markers) {
+    EXPECT_EQ(k.header.frame_id, "map");
+    if (k.ns == "static_map") points += k.points.size();
+    if (k.ns == "furniture_names") names.push_back(k.text);
+  }
+  EXPECT_EQ(points, 3 * makeBuilding().mesh.triangleCount());
+  EXPECT_EQ(names, std::vector<std::string>{"workbench"});
 }
 
 // With its own localization the tracker takes the robot's pose from initialpose (rviz "2D Pose

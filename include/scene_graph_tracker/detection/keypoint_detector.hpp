@@ -95,6 +95,14 @@ struct DecodeOptions {
   int max_detections = 100;
 };
 
+// Where OpenCV DNN runs the network: backend opencv | cuda | default, target cpu | opencl |
+// opencl_fp16 | cuda | cuda_fp16. A pair this OpenCV build cannot run (no CUDA, no OpenCL
+// device) falls back to opencv / cpu, and KeypointDetector::inferenceNote() says so.
+struct InferenceOptions {
+  std::string backend = "opencv";
+  std::string target = "cpu";
+};
+
 // Decodes a raw output blob (dims 1 x C x N, float). Throws DetectorError when C does not match
 // the metadata.
 std::vector<Detection> decodeYoloPose(const cv::Mat& output, const ModelInfo& info,
@@ -109,7 +117,9 @@ std::vector<Detection> nonMaximumSuppression(std::vector<Detection> detections, 
 class KeypointDetector {
  public:
   // Loads the metadata and the network; checks the output layout with one forward pass.
-  explicit KeypointDetector(const std::string& metadata_yaml, DecodeOptions options = {});
+  // Throws DetectorError for an unknown backend or target name.
+  explicit KeypointDetector(const std::string& metadata_yaml, DecodeOptions options = {},
+                            const InferenceOptions& inference = {});
   ~KeypointDetector();
   KeypointDetector(const KeypointDetector&) = delete;
   KeypointDetector& operator=(const KeypointDetector&) = delete;
@@ -118,6 +128,8 @@ class KeypointDetector {
   // Ignore the metadata's per-class score_thresholds (evaluate_detector calibrates them).
   void clearScoreThresholds() { info_.score_thresholds.clear(); }
   DecodeOptions& options() { return options_; }
+  // Why the requested backend / target is not used; empty when it is.
+  const std::string& inferenceNote() const { return inference_note_; }
   // `rgb`: 8-bit, 3 channels, RGB order.
   std::vector<Detection> detect(const cv::Mat& rgb);
 
@@ -126,6 +138,7 @@ class KeypointDetector {
   struct Net;
   ModelInfo info_;
   DecodeOptions options_;
+  std::string inference_note_;
   std::unique_ptr<Net> net_;
 };
 

@@ -27,7 +27,8 @@ class PoseDetector {
  public:
   // Throws DetectorError when the model cannot be loaded or none of its classes is in the catalog.
   PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog,
-               DecodeOptions decode = {}, PnpOptions pnp = {});
+               DecodeOptions decode = {}, PnpOptions pnp = {},
+               const InferenceOptions& inference = {});
 
   KeypointDetector& keypoints() { return detector_; }
   PnpOptions& pnpOptions() { return pnp_; }

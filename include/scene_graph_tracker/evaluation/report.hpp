@@ -1,8 +1,9 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.* (with false positives),
 // hypotheses.* (when any were scored), localization.*, presegmentation.*, relations.* (when
-// relations were scored), timing.*), report.md (tables) and timeseries.csv (one row per frame,
-// object and false positive, read by scripts/plot_report.py).
+// relations were scored), tracks.* (no ground truth needed), timing.*), report.md (tables) and
+// timeseries.csv (one row per frame, object, false positive and track, read by
+// scripts/plot_report.py).
 #pragma once
 
 #include <map>
@@ -12,6 +13,7 @@
 
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/evaluation/relation_score.hpp"
+#include "scene_graph_tracker/evaluation/track_figures.hpp"
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 
 namespace sgt {
@@ -54,6 +56,9 @@ class EvaluationReport {
   // scenario.
   void addRelations(const RelationCounts& counts, std::size_t declared);
 
+  // Per-track figures without ground truth (evaluation/track_figures.hpp).
+  TrackFigures& tracks() { return tracks_; }
+
   std::size_t frames() const { return frames_.size(); }
   std::string json() const;
   std::string markdown() const;
@@ -94,6 +99,7 @@ class EvaluationReport {
   std::map<std::string, HypothesisCounts> hypotheses_;  // per truth id
   std::map<std::string, std::string> last_track_;       // truth id -> last matched track id
   std::map<std::string, int> switches_;
+  TrackFigures tracks_;
 };
 
 }  // namespace sgt

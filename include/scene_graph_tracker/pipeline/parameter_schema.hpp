@@ -88,6 +88,7 @@ struct TrackerParameters {
 struct DetectorParameters {
   detection::DecodeOptions decode;
   detection::PnpOptions pnp;
+  detection::InferenceOptions inference;
   bool use_depth = true;
   std::string image_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
   std::string depth_transport = "raw";

@@ -5,7 +5,8 @@
 // ros/image_input.hpp)
 // + camera_info (synchronised), a LiDAR PointCloud2 (its model from the lidar/* parameters), pose
 // hypotheses (PoseHypothesisArray); frames through tf2. Publishes: ~tracked_objects, ~scene_graph,
-// ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), /diagnostics, TF
+// ~unassigned_points (PointCloud2 in the map frame), ~markers (MarkerArray), ~map_markers (the
+// static map and furniture, latched), /diagnostics, TF
 // map -> odom (publish_map_odom) and each track's frame below its scene-graph parent
 // (publish_object_tf). Services: ~reset,
 // ~add_track, ~remove_track. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
@@ -116,7 +117,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ::ros::Subscriber cloud_sub_, scan_sub_, hypotheses_sub_, initialpose_sub_;
-  ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, diagnostics_pub_;
+  ::ros::Publisher objects_pub_, graph_pub_, unassigned_pub_, markers_pub_, map_markers_pub_,
+      diagnostics_pub_;
   ::ros::ServiceServer reset_srv_, add_srv_, remove_srv_;
   std::unique_ptr<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>> reconfigure_;
   boost::recursive_mutex reconfigure_mutex_;

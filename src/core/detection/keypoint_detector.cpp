@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -170,7 +171,44 @@ struct KeypointDetector::Net {
   cv::dnn::Net net;
 };
 
-KeypointDetector::KeypointDetector(const std::string& metadata_yaml, DecodeOptions options)
+namespace {
+
+template <class Enum>
+Enum byName(const std::map<std::string, Enum>& names, const std::string& name, const char* what) {
+  const auto it = names.find(name);
+  if (it != names.end()) return it->second;
+  std::string known;
+  for (const auto& [n, e] : names) known += (known.empty() ? "" : ", ") + n;
+  throw DetectorError(std::string("unknown DNN ") + what + " '" + name + "' (" + known + ")");
+}
+
+// Sets the backend and target; returns why they are not the requested ones (empty: they are).
+std::string setInference(cv::dnn::Net& net, const InferenceOptions& o) {
+  using namespace cv::dnn;
+  const Backend backend = byName<Backend>({{"opencv", DNN_BACKEND_OPENCV},
+                                           {"cuda", DNN_BACKEND_CUDA},
+                                           {"default", DNN_BACKEND_DEFAULT}},
+                                          o.backend, "backend");
+  const Target target = byName<Target>({{"cpu", DNN_TARGET_CPU},
+                                        {"opencl", DNN_TARGET_OPENCL},
+                                        {"opencl_fp16", DNN_TARGET_OPENCL_FP16},
+                                        {"cuda", DNN_TARGET_CUDA},
+                                        {"cuda_fp16", DNN_TARGET_CUDA_FP16}},
+                                       o.target, "target");
+  const std::vector<Target> available = getAvailableTargets(backend);
+  const bool ok = std::find(available.begin(), available.end(), target) != available.end();
+  net.setPreferableBackend(ok ? backend : DNN_BACKEND_OPENCV);
+  net.setPreferableTarget(ok ? target : DNN_TARGET_CPU);
+  if (ok) return "";
+  return "DNN backend " + o.backend + " with target " + o.target +
+         " is not available in this OpenCV build (" + cv::getVersionString() +
+         "); running on opencv / cpu";
+}
+
+}  // namespace
+
+KeypointDetector::KeypointDetector(const std::string& metadata_yaml, DecodeOptions options,
+                                   const InferenceOptions& inference)
     : info_(loadModelInfo(metadata_yaml)), options_(options), net_(std::make_unique<Net>()) {
   if (!fs::exists(info_.onnx_path)) throw DetectorError("model file not found: " + info_.onnx_path);
   try {
@@ -178,8 +216,7 @@ KeypointDetector::KeypointDetector(const std::string& metadata_yaml, DecodeOptio
   } catch (const cv::Exception& e) {
     throw DetectorError("OpenCV cannot load " + info_.onnx_path + ": " + e.what());
   }
-  net_->net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net_->net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  inference_note_ = setInference(net_->net, inference);
   // One pass on a blank image checks the output layout against the metadata now, not mid-run.
   const cv::Mat blank(info_.input_height, info_.input_width, CV_8UC3,
                       cv::Scalar::all(info_.letterbox_pad));

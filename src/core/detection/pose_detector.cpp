@@ -3,8 +3,8 @@
 namespace sgt::detection {
 
 PoseDetector::PoseDetector(const std::string& model_yaml, const ObjectCatalog& catalog,
-                           DecodeOptions decode, PnpOptions pnp)
-    : detector_(model_yaml, decode), pnp_(pnp) {
+                           DecodeOptions decode, PnpOptions pnp, const InferenceOptions& inference)
+    : detector_(model_yaml, decode, inference), pnp_(pnp) {
   if (detector_.info().keypoint_order != "dope_cuboid" ||
       detector_.info().keypoints != kCuboidKeypoints)
     throw DetectorError("model " + model_yaml + ": PnP needs " + std::to_string(kCuboidKeypoints) +

@@ -469,6 +469,11 @@ Schema<D> makeDetectorSchema() {
               "depth_transport)"),
       number<D>("depth_max_offset", kDetection, DET(depth_max_offset), 0.0, 1.0, "s", kStart,
                 "the depth image closest in time to the RGB image, at most this far"),
+      text<D>("dnn_backend", kDetection, DET(inference.backend), true,
+              "OpenCV DNN backend: opencv, cuda or default (cuda on a Jetson with a CUDA build "
+              "of OpenCV; what the build cannot run falls back to opencv / cpu, with a warning)"),
+      text<D>("dnn_target", kDetection, DET(inference.target), true,
+              "OpenCV DNN target: cpu, opencl, opencl_fp16, cuda or cuda_fp16"),
       text<D>("model", kDetection, DET(model), false,
               "metadata YAML beside the ONNX model (tracker.launch detector_model)"),
       text<D>("catalog", kDetection, DET(catalog), false,
