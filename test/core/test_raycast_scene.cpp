@@ -242,19 +242,27 @@ TEST(RaycastScene, ClosestPointOnAMeshWithinARadius) {
 }
 
 }  // namespace
-// Scratch hit buffers are reused per thread, call site and size, never shared between them.
-TEST(RaycastScene, ScratchHitsAreReusedPerThreadSlotAndSize) {
-  RayHits& a = scratchHits(HitsSlot::kRefine, 64, 48);
-  EXPECT_EQ(a.size(), 64u * 48u);
-  EXPECT_EQ(&scratchHits(HitsSlot::kRefine, 64, 48), &a);
-  EXPECT_NE(&scratchHits(HitsSlot::kPresegment, 64, 48), &a);
-  RayHits& small = scratchHits(HitsSlot::kRefine, 16, 1);
-  EXPECT_NE(&small, &a);
-  EXPECT_EQ(small.size(), 16u);
-  EXPECT_EQ(a.size(), 64u * 48u);  // the other size's buffer kept its grid
-  const RayHits* other = nullptr;
-  std::thread([&] { other = &scratchHits(HitsSlot::kRefine, 64, 48); }).join();
-  EXPECT_NE(other, &a);
+// Scratch hit buffers come from one pool: a buffer given back is lent again, whichever thread
+// asks; two leases at once get two buffers; each size has its own.
+TEST(RaycastScene, ScratchHitsAreLentFromOnePoolWhateverTheThread) {
+  const std::size_t before = scratchHitsPooled();
+  const RayHits* first = nullptr;
+  {
+    const HitsLease a = scratchHits(64, 48);
+    EXPECT_EQ(a->size(), 64u * 48u);
+    first = &*a;
+    const HitsLease b = scratchHits(64, 48);  // while a is out
+    EXPECT_NE(&*b, first);
+    const HitsLease small = scratchHits(16, 1);
+    EXPECT_EQ(small->size(), 16u);
+  }
+  EXPECT_EQ(scratchHitsPooled(), before + 3);
+  for (int t = 0; t < 8; ++t)  // eight threads, one after the other: no new buffer
+    std::thread([&] {
+      const HitsLease again = scratchHits(64, 48);
+      EXPECT_EQ(again->size(), 64u * 48u);
+    }).join();
+  EXPECT_EQ(scratchHitsPooled(), before + 3);
 }
 
 }  // namespace sgt

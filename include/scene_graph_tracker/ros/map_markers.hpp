@@ -14,11 +14,12 @@
 namespace sgt::ros {
 
 // Namespaces "static_map" (one TRIANGLE_LIST; a mesh of more than `max_triangles` triangles is
-// thinned evenly to at most that many, so rviz stays fluid), "furniture" (CUBE) and
-// "furniture_names" (TEXT_VIEW_FACING), in `frame`.
+// thinned evenly to at most that many: the latched message stays in the publisher's memory, 72
+// bytes a triangle, and rviz stays fluid), "furniture" (CUBE) and "furniture_names"
+// (TEXT_VIEW_FACING), in `frame`.
 visualization_msgs::MarkerArray mapMarkers(const TriangleMesh& map,
                                            const std::vector<relations::Entity>& furniture,
                                            const std::string& frame,
-                                           std::size_t max_triangles = 500000);
+                                           std::size_t max_triangles = 100000);
 
 }  // namespace sgt::ros

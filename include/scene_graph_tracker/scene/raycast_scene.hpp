@@ -43,13 +43,30 @@ struct RayHits {
   void resize(int w, int h);
 };
 
-// Per-thread ray-hit buffers, one per call site (`slot`) and grid size, that every frame's casts
-// reuse: a fresh 640 x 480 RayHits is 11 MB to allocate, fill and fault in, a cost that grew with
-// the image rather than with the rays cast. A buffer keeps the hits of its last cast; rays a cast
-// does not cover keep older values, so read only the tiles cast. A slot must not be held across
-// another use of it on the same thread.
-enum class HitsSlot { kRefine, kPresegment, kVisibility };
-RayHits& scratchHits(HitsSlot slot, int width, int height);
+// Ray-hit buffers that every frame's casts reuse: a fresh 640 x 480 RayHits is 11 MB to
+// allocate, fill and fault in, a cost that grew with the image rather than with the rays cast.
+// scratchHits() lends a buffer of the grid's size from a process-wide pool until the lease ends;
+// the pool holds as many per size as were ever leased at once (not one per thread: a nodelet
+// manager runs a node's frames on any of its many worker threads, and per-thread buffers made its
+// RSS grow by 11 MB whenever a thread first ran a frame). A buffer keeps the hits of whatever
+// cast used it last; rays a cast does not cover keep older values, so read only the tiles cast.
+class HitsLease {
+ public:
+  HitsLease(const HitsLease&) = delete;
+  HitsLease& operator=(const HitsLease&) = delete;
+  HitsLease(HitsLease&& other) noexcept : hits_(std::move(other.hits_)) {}
+  ~HitsLease();  // back to the pool
+  RayHits& operator*() const { return *hits_; }
+  RayHits* operator->() const { return hits_.get(); }
+
+ private:
+  friend HitsLease scratchHits(int width, int height);
+  explicit HitsLease(std::unique_ptr<RayHits> hits) : hits_(std::move(hits)) {}
+  std::unique_ptr<RayHits> hits_;
+};
+HitsLease scratchHits(int width, int height);
+// Buffers in the pool now (leased or free), over all sizes: for tests and diagnostics.
+std::size_t scratchHitsPooled();
 
 // Rectangle of a ray grid: columns [x0, x1), rows [y0, y1).
 struct GridRect {

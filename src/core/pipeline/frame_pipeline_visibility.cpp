@@ -35,7 +35,8 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
                     bool limited) {
   RayCounts c;
   for (const RangeMeasurements& m : sets) {
-    RayHits& hits = scratchHits(HitsSlot::kVisibility, m.rays->width, m.rays->height);
+    const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
+    RayHits& hits = *lease;
     const bool coarse =
         !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),

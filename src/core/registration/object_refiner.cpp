@@ -119,7 +119,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     std::fill(expected.begin(), expected.end(), 0);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
-      RayHits& hits = scratchHits(HitsSlot::kRefine, m.rays->width, m.rays->height);
+      const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
+      RayHits& hits = *lease;
       const bool last = round + 1 == options_.rounds;
       const bool coarse = (!last || !options_.full_resolution_last_round) &&
                           std::holds_alternative<PinholeModel>(m.model);

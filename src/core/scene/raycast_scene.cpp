@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -86,11 +87,49 @@ void RayHits::resize(int w, int h) {
   primitive.assign(n, 0);
 }
 
-RayHits& scratchHits(HitsSlot slot, int width, int height) {
-  thread_local std::map<std::tuple<int, int, int>, RayHits> buffers;
-  RayHits& hits = buffers[{static_cast<int>(slot), width, height}];
-  hits.resize(width, height);
-  return hits;
+namespace {
+
+struct HitsPool {
+  std::mutex mutex;
+  std::map<std::pair<int, int>, std::vector<std::unique_ptr<RayHits>>> free;  // by grid size
+  std::size_t pooled = 0;
+};
+
+HitsPool& hitsPool() {
+  static HitsPool* pool = new HitsPool;  // never destroyed: leases may end during exit
+  return *pool;
+}
+
+}  // namespace
+
+HitsLease scratchHits(int width, int height) {
+  HitsPool& pool = hitsPool();
+  std::unique_ptr<RayHits> hits;
+  {
+    std::lock_guard<std::mutex> lock(pool.mutex);
+    auto& free = pool.free[{width, height}];
+    if (!free.empty()) {
+      hits = std::move(free.back());
+      free.pop_back();
+    } else {
+      ++pool.pooled;
+    }
+  }
+  if (!hits) hits = std::make_unique<RayHits>();
+  hits->resize(width, height);
+  return HitsLease(std::move(hits));
+}
+
+HitsLease::~HitsLease() {
+  if (!hits_) return;  // moved from
+  HitsPool& pool = hitsPool();
+  std::lock_guard<std::mutex> lock(pool.mutex);
+  pool.free[{hits_->width, hits_->height}].push_back(std::move(hits_));
+}
+
+std::size_t scratchHitsPooled() {
+  std::lock_guard<std::mutex> lock(hitsPool().mutex);
+  return hitsPool().pooled;
 }
 
 // ------------------------------------------------------------------------------------ TileSet

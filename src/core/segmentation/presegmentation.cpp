@@ -29,7 +29,8 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   out.label.assign(n, PointLabel::kInvalid);
   out.node.assign(n, kNoNode);
   if (n == 0) return out;
-  RayHits& hits = scratchHits(HitsSlot::kPresegment, m.rays->width, m.rays->height);
+  const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
+  RayHits& hits = *lease;
   scene.cast(*m.rays, m.T_world_sensor, hits);  // every ray: no stale hit is read
   const NodeId map = scene.staticMapNode();
   const bool depth = std::holds_alternative<PinholeModel>(m.model);
