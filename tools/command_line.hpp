@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <string>
 
 namespace sgt::cli {
@@ -33,6 +34,16 @@ class Flags {
       };
       if (!on(flag, value)) fail("unknown argument " + flag);
     }
+  }
+
+  // parse() for tools whose flags all take a string: each flag and the string it sets.
+  void parse(int argc, char** argv, const std::map<std::string, std::string*>& strings) const {
+    parse(argc, argv, [&](const std::string& flag, const std::function<std::string()>& value) {
+      const auto it = strings.find(flag);
+      if (it == strings.end()) return false;
+      *it->second = value();
+      return true;
+    });
   }
 
  private:

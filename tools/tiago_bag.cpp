@@ -125,15 +125,7 @@ class TiagoBag {
 int main(int argc, char** argv) {
   const sgt::cli::Flags flags("tiago_bag", "--bag IN.bag --output OUT.bag");
   std::string in, out;
-  flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
-    if (k == "--bag")
-      in = value();
-    else if (k == "--output")
-      out = value();
-    else
-      return false;
-    return true;
-  });
+  flags.parse(argc, argv, {{"--bag", &in}, {"--output", &out}});
   if (in.empty() || out.empty()) flags.fail("--bag and --output are required");
   try {
     rosbag::Bag bag(in, rosbag::bagmode::Read);

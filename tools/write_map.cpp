@@ -19,17 +19,9 @@ int main(int argc, char** argv) {
   using namespace sgt;
   const cli::Flags flags("write_map", "--mesh OUT.ply --furniture OUT.yaml [--scenario FILE.yaml]");
   std::string mesh_path, furniture_path, scenario_path;
-  flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
-    if (k == "--mesh")
-      mesh_path = value();
-    else if (k == "--furniture")
-      furniture_path = value();
-    else if (k == "--scenario")
-      scenario_path = value();
-    else
-      return false;
-    return true;
-  });
+  flags.parse(
+      argc, argv,
+      {{"--mesh", &mesh_path}, {"--furniture", &furniture_path}, {"--scenario", &scenario_path}});
   if (mesh_path.empty() || furniture_path.empty())
     flags.fail("--mesh and --furniture are required");
   try {

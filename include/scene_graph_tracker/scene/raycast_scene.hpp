@@ -46,10 +46,10 @@ struct RayHits {
 // Ray-hit buffers that every frame's casts reuse: a fresh 640 x 480 RayHits is 11 MB to
 // allocate, fill and fault in, a cost that grew with the image rather than with the rays cast.
 // scratchHits() lends a buffer of the grid's size from a process-wide pool until the lease ends;
-// the pool holds as many per size as were ever leased at once (not one per thread: a nodelet
-// manager runs a node's frames on any of its many worker threads, and per-thread buffers made its
-// RSS grow by 11 MB whenever a thread first ran a frame). A buffer keeps the hits of whatever
-// cast used it last; rays a cast does not cover keep older values, so read only the tiles cast.
+// the pool holds as many per size as were ever leased at once. Not one per thread: a nodelet
+// manager runs a node's frames on any of its many worker threads, and per-thread buffers would
+// multiply by their number. A buffer keeps the hits of whatever cast used it last; rays a cast does
+// not cover keep older values, so read only the tiles cast.
 class HitsLease {
  public:
   HitsLease(const HitsLease&) = delete;
