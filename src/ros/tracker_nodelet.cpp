@@ -18,9 +18,14 @@
 #include "scene_graph_tracker/ros/relation_markers.hpp"
 #include "scene_graph_tracker/ros/track_id_store.hpp"
 #include "scene_graph_tracker/scene/static_map.hpp"
+#include "scene_graph_tracker/util/heap_trim.hpp"
 
 namespace sgt::ros {
 namespace {
+
+// How often the manager's freed heap goes back to the system (util/heap_trim.hpp): a trim costs
+// a few milliseconds, and without it the RSS keeps the high-water mark of every image burst.
+constexpr double kHeapTrimPeriod = 10.0;
 
 std_msgs::ColorRGBA colour(TrackState s) {
   std_msgs::ColorRGBA c;
@@ -203,6 +208,7 @@ void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
     warn(std::string("frame at ") + std::to_string(stamp.toSec()) + " failed: " + e.what());
     publishDiagnostics(std::string("frame failed: ") + e.what(), nullptr);
   }
+  util::trimHeapEvery(kHeapTrimPeriod);
 }
 
 // Waits (up to 50 ms each) for the transforms an image needs before the lock is taken: TF often
