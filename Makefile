@@ -155,6 +155,11 @@ MODEL_VAL_BENCH_FRACTION ?= 0
 MODEL_LABELS ?= object
 # Score thresholds by the best F-beta on the val set (evaluate_detector --threshold-beta)
 MODEL_THRESHOLD_BETA ?= 1
+# The classes to detect: an object catalog (its classes in its order) and, if its meshes are elsewhere,
+# their directory; e.g. MODEL_CATALOG=config/real/visp_rbt.yaml MODEL_MESH_DIR=../shared/data/real/visp_rbt/models
+MODEL_CATALOG ?= package://scene_graph_tracker/config/objects.yaml
+MODEL_MESH_DIR ?=
+MODEL_CLASSES = --catalog $(MODEL_CATALOG) $(if $(MODEL_MESH_DIR),--mesh-dir $(MODEL_MESH_DIR))
 # Where the trained model goes (its .yaml beside it); another path keeps the shipped one
 MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
@@ -162,14 +167,14 @@ MODEL_INIT ?=
 model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
-	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS)
+	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
-	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS)
+	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
 	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output $(MODEL_OUTPUT) \
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
 	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model $(basename $(MODEL_OUTPUT)).yaml --output $(MODEL_DIR)/eval \
-	  --write-thresholds --threshold-beta $(MODEL_THRESHOLD_BETA)
+	  --write-thresholds --threshold-beta $(MODEL_THRESHOLD_BETA) $(MODEL_CLASSES)
 
 # config/tracker.yaml, config/detector.yaml, cfg/Tracker.cfg and the README's parameter tables from
 # the parameter schema (src/core/pipeline/parameter_schema.cpp); test_parameter_schema checks them.

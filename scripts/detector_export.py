@@ -6,7 +6,28 @@ import numpy as np
 import onnx
 import torch
 
-NAMES = ["multimeter", "screwdriver", "materialbox", "klt", "relay"]
+
+
+def dataset_names(directory):
+    """Class names in label-id order from render_dataset's DIRECTORY/dataset.yaml."""
+    import yaml
+    with open(os.path.join(directory, "dataset.yaml")) as f:
+        names = (yaml.safe_load(f) or {}).get("names")
+    if isinstance(names, dict):  # ultralytics style {0: name, 1: name}
+        names = [names[k] for k in sorted(names)]
+    if not names:
+        raise SystemExit(f"{directory}/dataset.yaml names no classes")
+    return [str(n) for n in names]
+
+
+def model_names(metadata_yaml):
+    """Class names in output order of an exported model, from its metadata yaml."""
+    import yaml
+    with open(metadata_yaml) as f:
+        names = (yaml.safe_load(f) or {}).get("names")
+    if not names:
+        raise SystemExit(f"{metadata_yaml} names no classes")
+    return [str(n) for n in names]
 
 
 def drop_identities(model):
@@ -66,7 +87,7 @@ def read_training(path):
     return training
 
 
-def write_metadata(path, size, nk, training):
+def write_metadata(path, size, nk, names, training):
     from detector_model import input_size
     w, h = input_size(size)
     lines = [
@@ -76,7 +97,7 @@ def write_metadata(path, size, nk, training):
         "# (centred, pad grey 114). Keypoint pixels are continuous (a pixel's centre at +0.5).",
         f"input_width: {w}",
         f"input_height: {h}",
-        f"names: [{', '.join(NAMES)}]",
+        f"names: [{', '.join(names)}]",
         f"keypoints: {nk}",
         "keypoint_order: dope_cuboid",
         "letterbox_pad: 114",

@@ -24,7 +24,7 @@ import torch
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from detector_data import KeypointDataset, collate  # noqa: E402
-from detector_export import NAMES, export, read_training, write_metadata  # noqa: E402
+from detector_export import dataset_names, export, model_names, read_training, write_metadata  # noqa: E402
 from detector_init import calibrate, load_onnx  # noqa: E402
 from detector_loss import DetectorLoss, decode_boxes, flatten, giou  # noqa: E402
 from detector_model import KeypointNet  # noqa: E402
@@ -56,7 +56,7 @@ def evaluate(net, loader, criterion):
         pos, size, logits = flatten(raw)
         boxes = decode_boxes(pos, size, criterion.centres, criterion.strides)
         kp = pos[..., 2:].reshape(*pos.shape[:2], NK, 2) * criterion.strides[None, :, None, None] + criterion.centres[None, :, None]
-        scores = torch.sigmoid(logits[..., : len(NAMES)])
+        scores = torch.sigmoid(logits[..., : net.nc])
         for b, (cls, gt, gkp) in enumerate(targets):
             for j in range(len(cls)):
                 objects += 1
@@ -104,26 +104,37 @@ def main():
         size = tuple(int(v) for v in args.export_size.lower().split("x"))
         if len(size) != 2 or any(v <= 0 or v % 32 for v in size):
             ap.error(f"--export-size {args.export_size}: width x height, multiples of 32")
-        net, kept = KeypointNet(len(NAMES), NK, size), []
+        kept = []
         if args.export_only.endswith(".onnx"):
-            load_onnx(net, args.export_only)  # eval mode: the folded weights as they are
             source_yaml = os.path.splitext(args.export_only)[0] + ".yaml"
+            names = model_names(source_yaml)
+            net = KeypointNet(len(names), NK, size)
+            load_onnx(net, args.export_only)  # eval mode: the folded weights as they are
             training = read_training(source_yaml)
             with open(source_yaml) as f:  # the same weights keep their per-class score thresholds
                 kept = [line for line in f if line.startswith(("score_thresholds:", "# score_thresholds:"))]
         else:
             state = torch.load(args.export_only)
+            if "names" not in state:
+                raise SystemExit(f"{args.export_only}: a checkpoint without class names (older than the catalog's)")
+            names = state["names"]
+            net = KeypointNet(len(names), NK, size)
             net.load_state_dict(state["model"])
             training = {"checkpoint": args.export_only, "epoch": state["epoch"]}
         export(net, args.output, size)
         yaml_out = os.path.splitext(args.output)[0] + ".yaml"
-        write_metadata(yaml_out, size, NK, dict(training, exported_from=args.export_only))
+        write_metadata(yaml_out, size, NK, names, dict(training, exported_from=args.export_only))
         with open(yaml_out, "a") as f:
             f.writelines(kept)
         return
     if not args.train or not args.val:
         ap.error("--train and --val are needed to train")
 
+    names = dataset_names(args.train)
+    if dataset_names(args.val) != names:
+        raise SystemExit(f"{args.train} and {args.val} name different classes")
+    if args.init and model_names(os.path.splitext(args.init)[0] + ".yaml") != names:
+        raise SystemExit(f"{args.init} detects other classes than {args.train} holds: {names}")
     torch.set_num_threads(2)
     torch.manual_seed(args.seed)
     train = KeypointDataset(args.train, SIZE, augment=True, seed=args.seed, canvas=args.train_size)
@@ -131,9 +142,9 @@ def main():
     loader = torch.utils.data.DataLoader(train, args.batch, shuffle=True, num_workers=args.workers, collate_fn=collate,
                                          drop_last=True, worker_init_fn=worker_init, persistent_workers=args.workers > 0)
     val_loader = torch.utils.data.DataLoader(val, 32, shuffle=False, num_workers=0, collate_fn=collate)
-    net = KeypointNet(len(NAMES), NK, SIZE).to(memory_format=torch.channels_last)
-    criterion = DetectorLoss(len(NAMES), NK, args.train_size)
-    val_criterion = DetectorLoss(len(NAMES), NK, SIZE)
+    net = KeypointNet(len(names), NK, SIZE).to(memory_format=torch.channels_last)
+    criterion = DetectorLoss(len(names), NK, args.train_size)
+    val_criterion = DetectorLoss(len(names), NK, SIZE)
     init_minutes = 0.0
     if args.init:
         calibrate(net, load_onnx(net, args.init), itertools.islice(loader, 20), to_input)
@@ -182,7 +193,7 @@ def main():
         history.append((epoch, train_loss["total"], val_loss["total"]))
         print(f"== epoch {epoch} ({n} steps, {(time.time() - t_epoch) / 60:.1f} min) train {fmt(train_loss)}\n"
               f"   val {fmt(val_loss)}", flush=True)
-        state = {"model": net.state_dict(), "epoch": epoch, "val": val_loss, "train": train_loss}
+        state = {"model": net.state_dict(), "epoch": epoch, "val": val_loss, "train": train_loss, "names": names}
         torch.save(state, os.path.join(args.checkpoint_dir, "last.pt"))
         if val_loss["total"] < best:
             best = val_loss["total"]
@@ -195,7 +206,7 @@ def main():
     net = net.to(memory_format=torch.contiguous_format)
     os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
     export(net, args.output, SIZE)
-    write_metadata(os.path.splitext(args.output)[0] + ".yaml", SIZE, NK, {
+    write_metadata(os.path.splitext(args.output)[0] + ".yaml", SIZE, NK, names, {
         "images": len(train), "val_images": len(val), "epochs": epoch, "steps": step, "batch": args.batch,
         "train_canvas": args.train_size, "minutes": round(minutes, 1), "init": args.init or "random",
         "total_minutes": round(init_minutes + minutes, 1), "best_epoch": state["epoch"],

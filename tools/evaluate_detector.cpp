@@ -38,7 +38,8 @@ using namespace sgt;
 namespace {
 
 struct Args {
-  std::string dataset, model, output, catalog = "package://scene_graph_tracker/config/objects.yaml";
+  std::string dataset, model, output, mesh_dir,
+      catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::size_t limit = 0;
   int debug_images = 8;
   bool write_thresholds = false;
@@ -46,10 +47,11 @@ struct Args {
 };
 
 Args parse(int argc, char** argv) {
-  const sgt::cli::Flags flags("evaluate_detector",
-                              "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] "
-                              "[--limit N] [--debug-images K] "
-                              "[--write-thresholds] [--threshold-beta B]");
+  const sgt::cli::Flags flags(
+      "evaluate_detector",
+      "--dataset DIR --model MODEL.yaml --output OUT [--catalog FILE] [--mesh-dir D] "
+      "[--limit N] [--debug-images K] "
+      "[--write-thresholds] [--threshold-beta B]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--dataset")
@@ -60,6 +62,8 @@ Args parse(int argc, char** argv) {
       a.output = value();
     else if (k == "--catalog")
       a.catalog = value();
+    else if (k == "--mesh-dir")
+      a.mesh_dir = value();
     else if (k == "--limit")
       a.limit = std::stoul(value());
     else if (k == "--debug-images")
@@ -190,7 +194,7 @@ void writeThresholds(const std::string& yaml_path, const std::string& line,
 int main(int argc, char** argv) {
   const Args args = parse(argc, argv);
   try {
-    const ObjectCatalog catalog = loadObjectCatalog(args.catalog);
+    const ObjectCatalog catalog = loadObjectCatalog(args.catalog, args.mesh_dir);
     detection::PoseDetector detector(args.model, catalog);
     detector.keypoints().clearScoreThresholds();
     const PoseScorer score(catalog);  // ADD-S to each class's surface

@@ -3,7 +3,7 @@
 //
 //   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
 //                                             [--bench-fraction F] [--labels object|cuboid]
-//                                             [--mesh-dir D]
+//                                             [--catalog FILE] [--mesh-dir D]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
@@ -18,7 +18,8 @@
 // DIR/poses/000123.json   scene kind (bench or random), camera K and per labelled object its class,
 //                         T_camera_object and the symmetry-canonical pose the keypoints were made
 //                         from
-// DIR/dataset.yaml        ultralytics style
+// DIR/dataset.yaml        ultralytics style; `names` are the catalog's classes in its file's order
+//                         (their label ids)
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -43,8 +44,6 @@ using Eigen::Vector3f;
 
 namespace {
 
-const std::vector<std::string> kClasses = {"multimeter", "screwdriver", "materialbox", "klt",
-                                           "relay"};
 constexpr int kMinVisiblePixels = 120;
 constexpr sgt::NodeId kMapNode = 1, kTableNode = 2, kFirstWallNode = 10, kFirstObjectNode = 100,
                       kFirstDistractorNode = 200;
@@ -52,6 +51,7 @@ constexpr double kPlanesOrigin = -200.0;  // x of the plain-walls room, far outs
 
 struct Args {
   std::string output, mesh_dir;
+  std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::size_t count = 0;
   std::uint32_t seed = 1;
   double max_distance = 2.5;
@@ -113,6 +113,7 @@ class DatasetRenderer {
   DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance,
                   double bench_fraction, bool cuboid_labels)
       : catalog_(catalog),
+        classes_(catalog.listed()),
         seed_(seed),
         max_distance_(max_distance),
         bench_fraction_(bench_fraction),
@@ -123,7 +124,7 @@ class DatasetRenderer {
     building_ = sgt::makeBuilding(b);
     scene_.setStaticMap(std::make_shared<sgt::TriangleMesh>(building_.mesh), kMapNode);
     Rng rng{std::mt19937(seed ^ 0x5eedu)};
-    for (const auto& name : kClasses) {
+    for (const auto& name : classes_) {
       const auto& c = catalog_.get(name);
       lib_.classes.push_back(scene_.addMesh(c.mesh));
       lib_.class_boxes.push_back(c.box.cast<double>());
@@ -182,6 +183,7 @@ class DatasetRenderer {
                    const sgt::SimulatedScan& scan);
 
   const sgt::ObjectCatalog& catalog_;
+  const std::vector<std::string> classes_;  // label id -> class name
   std::uint32_t seed_;
   double max_distance_;  // camera to the objects' centre, from 0.5 m
   double bench_fraction_;
@@ -259,7 +261,7 @@ void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node,
                                 const Isometry3d& T_world_object, double random_colour,
                                 double jitter) {
   scene_.addInstance(node, lib_.classes[cls], T_world_object);
-  Vector3f c = sgt::sim::classColour(kClasses[cls]);
+  Vector3f c = sgt::sim::classColour(classes_[cls]);
   if (rng.chance(random_colour))
     c = rng.colour();
   else
@@ -282,7 +284,7 @@ void DatasetRenderer::placeObjects(Rng& rng, double top, const Vector3d& centre,
                     centre.y() + rng.uniform(-half.y(), half.y()) * 0.9, top - lowest);
   };
   for (int i = 0; i < n; ++i) {
-    const int cls = rng.integer(0, static_cast<int>(kClasses.size()) - 1);
+    const int cls = rng.integer(0, static_cast<int>(classes_.size()) - 1);
     Eigen::Matrix3d R;
     if (rng.chance(0.75)) {  // resting on one of its six faces
       static const Eigen::Matrix3d faces[6] = {
@@ -509,7 +511,7 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
     const auto it = vis.find(p.node);
     if (it == vis.end() || it->second.pixels < kMinVisiblePixels) continue;
     const Visible& s = it->second;
-    const sgt::ObjectClass& oc = catalog_.get(kClasses[p.class_id]);
+    const sgt::ObjectClass& oc = catalog_.get(classes_[p.class_id]);
     const Isometry3d T = T_world_camera.inverse() * p.T_world_object;
     const Isometry3d T_label = cuboid_labels_
                                    ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
@@ -524,7 +526,7 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
         txt << " 0 0 0";
     }
     txt << '\n';
-    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << kClasses[p.class_id]
+    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << classes_[p.class_id]
          << "\", \"class_id\": " << p.class_id << ", \"visible_pixels\": " << s.pixels
          << ", \"T_camera_object\": ";
     writeMatrix(json, T);
@@ -548,6 +550,9 @@ void usage(std::ostream& os) {
         "  --labels    object (default): keypoints of the pose up to the object's symmetries; "
         "cuboid: up to\n"
         "              a half turn of its box as well (detection/keypoint_labels.hpp)\n"
+        "  --catalog   object catalog whose classes are rendered, in its order (default the "
+        "package's\n"
+        "              config/objects.yaml)\n"
         "  --mesh-dir  use the meshes in D for the catalog classes\n";
 }
 
@@ -569,6 +574,8 @@ int main(int argc, char** argv) {
       args.seed = static_cast<std::uint32_t>(std::stoul(v));
     else if (a == "--mesh-dir")
       args.mesh_dir = v;
+    else if (a == "--catalog")
+      args.catalog = v;
     else if (a == "--max-distance")
       args.max_distance = std::stod(v);
     else if (a == "--bench-fraction")
@@ -586,8 +593,7 @@ int main(int argc, char** argv) {
   try {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
-    const sgt::ObjectCatalog catalog =
-        sgt::loadObjectCatalog("package://scene_graph_tracker/config/objects.yaml", args.mesh_dir);
+    const sgt::ObjectCatalog catalog = sgt::loadObjectCatalog(args.catalog, args.mesh_dir);
     DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction,
                              args.cuboid_labels);
     sgt::ProgressBar bar("render_dataset", args.count);
@@ -599,10 +605,11 @@ int main(int argc, char** argv) {
     std::ofstream yaml(dir / "dataset.yaml");
     yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed
          << " --max-distance " << args.max_distance << " --bench-fraction " << args.bench_fraction
-         << " --labels " << (args.cuboid_labels ? "cuboid" : "object") << "\npath: " << dir.string()
+         << " --labels " << (args.cuboid_labels ? "cuboid" : "object") << " --catalog "
+         << args.catalog << "\npath: " << dir.string()
          << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
-    for (std::size_t c = 0; c < kClasses.size(); ++c)
-      yaml << "  " << c << ": " << kClasses[c] << "\n";
+    for (std::size_t c = 0; c < catalog.listed().size(); ++c)
+      yaml << "  " << c << ": " << catalog.listed()[c] << "\n";
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";
     return 1;

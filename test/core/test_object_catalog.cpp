@@ -14,6 +14,9 @@ TEST(ObjectCatalog, LoadsThePackageCatalog) {
   const ObjectCatalog catalog = loadObjectCatalog(kCatalog);
   EXPECT_EQ(catalog.names(),
             (std::vector<std::string>{"klt", "materialbox", "multimeter", "relay", "screwdriver"}));
+  // The file's order: the class ids of a detector trained on this catalog.
+  EXPECT_EQ(catalog.listed(),
+            (std::vector<std::string>{"multimeter", "screwdriver", "materialbox", "klt", "relay"}));
   const ObjectClass& mm = catalog.get("multimeter");
   EXPECT_NEAR(mm.box.sizes().x(), 0.180, 0.002);
   EXPECT_NEAR(mm.box.sizes().y(), 0.087, 0.002);

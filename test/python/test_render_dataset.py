@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""render_dataset's bench scenes (--bench-fraction) against its random scenes.
+"""render_dataset's bench scenes (--bench-fraction) against its random scenes; the classes come from
+a catalog (--catalog), in its order.
 
   /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
 
@@ -17,7 +18,9 @@ import unittest
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 import junit_runner  # noqa: E402
+from detector_export import dataset_names  # noqa: E402
 
 TOOL = None
 
@@ -101,6 +104,25 @@ class BenchScenes(unittest.TestCase):
                 reordered += not np.allclose(ka, kb)
         self.assertGreater(reordered, 0)
         self.assertIn("--labels cuboid", open(os.path.join(out, "dataset.yaml")).read())
+
+    def test_the_classes_are_the_catalogs_in_its_order(self):
+        self.assertEqual(dataset_names(os.path.join(self.tmp.name, "random")),
+                         ["multimeter", "screwdriver", "materialbox", "klt", "relay"])
+        catalog = os.path.join(self.tmp.name, "two.yaml")
+        with open(catalog, "w") as f:
+            f.write("objects:\n"
+                    "  relay: {mesh: package://scene_graph_tracker/meshes/relay.stl}\n"
+                    "  klt: {mesh: package://scene_graph_tracker/meshes/klt.stl}\n")
+        out = os.path.join(self.tmp.name, "two")
+        subprocess.run([TOOL, "--output", out, "--count", "8", "--seed", "3", "--catalog", catalog], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        self.assertEqual(dataset_names(out), ["relay", "klt"])
+        objects = [o for p in sorted(glob.glob(os.path.join(out, "poses", "*.json"))) for o in json.load(open(p))["objects"]]
+        self.assertGreater(len(objects), 4)
+        self.assertEqual({(o["class"], o["class_id"]) for o in objects}, {("relay", 0), ("klt", 1)})
+        ids = {int(row[0]) for name in os.listdir(os.path.join(out, "labels"))
+               for row in np.loadtxt(os.path.join(out, "labels", name), ndmin=2)}
+        self.assertEqual(ids, {0, 1})
 
     def test_a_fraction_outside_zero_to_one_is_refused(self):
         r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", "--bench-fraction", "1.5"],

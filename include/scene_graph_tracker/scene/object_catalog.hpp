@@ -50,11 +50,15 @@ class ObjectCatalog {
   void add(ObjectClass object);
   bool contains(const std::string& name) const { return classes_.count(name) > 0; }
   const ObjectClass& get(const std::string& name) const;
-  std::vector<std::string> names() const;
+  std::vector<std::string> names() const;  // sorted
+  // The names in the order they were first added: a catalog file's order, which a detector
+  // trained on the catalog uses as its class ids.
+  const std::vector<std::string>& listed() const { return listed_; }
   std::size_t size() const { return classes_.size(); }
 
  private:
   std::map<std::string, ObjectClass> classes_;
+  std::vector<std::string> listed_;
 };
 
 // Format:

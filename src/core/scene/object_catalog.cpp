@@ -32,6 +32,7 @@ std::vector<Eigen::Isometry3d> Symmetry::sampled(double step) const {
 
 void ObjectCatalog::add(ObjectClass object) {
   const std::string name = object.name;
+  if (!classes_.count(name)) listed_.push_back(name);
   classes_[name] = std::move(object);
 }
 
