@@ -188,6 +188,24 @@ TEST(MeshValidation, FewerFacesThanTheHeaderSays) {
   expectError([&] { loadMesh(path); }, {path});
 }
 
+// make fuzz (mesh): assimp allocated 61 GB for an OFF header declaring 10^100 faces. A header that
+// declares more vertices and faces than its file has bytes is refused before the import.
+TEST(MeshValidation, HeaderCountsBeyondTheFileSize) {
+  const auto off =
+      writeFile("huge.off", "OFF\n3 1000000000000 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n");
+  expectError([&] { loadMesh(off); }, {off, "declares 1e+12", "bytes"});
+  const auto ply = writeFile(
+      "huge.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+      "float z\nelement face 99999999999\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { loadMesh(ply); }, {ply, "declares", "bytes"});
+  // The counts of a valid file pass (comments before them too).
+  const auto ok =
+      writeFile("ok.off", "OFF\n# a comment\n3 1 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n");
+  EXPECT_EQ(loadMesh(ok).triangles.size(), 1u);
+}
+
 TEST(MeshValidation, UnitScale) {
   // A 180 mm part stored in millimetres is 180 m large: rejected with a hint, loads with scale.
   std::string obj = "v 0 0 0\nv 180 0 0\nv 0 87 0\nv 0 0 42\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";

@@ -4,6 +4,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstdint>
@@ -21,6 +22,52 @@ namespace {
 
 [[noreturn]] void fail(const std::string& what, const std::string& problem) {
   throw MeshError("mesh '" + what + "': " + problem);
+}
+
+// The element counts an OFF or PLY header declares, summed (0 for other formats). assimp
+// allocates for the declared counts before it reads the elements.
+double declaredElements(const std::string& head) {
+  std::istringstream text(head);
+  std::string first;
+  text >> first;
+  double declared = 0.0;
+  if (first.size() >= 3 && first.compare(first.size() - 3, 3, "OFF") == 0) {
+    // OFF: the vertex and face counts are the first two numbers after the keyword ('#' comments).
+    std::string token;
+    for (int counts = 0; counts < 2 && text >> token;) {
+      if (token[0] == '#') {
+        std::getline(text, token);
+        continue;
+      }
+      declared += std::fabs(std::strtod(token.c_str(), nullptr)), ++counts;
+    }
+  } else if (first == "ply") {
+    std::string line;  // "element <name> <count>" lines up to end_header
+    while (std::getline(text, line) && line.rfind("end_header", 0) != 0) {
+      std::istringstream words(line);
+      std::string keyword, name, count;
+      if (words >> keyword >> name >> count && keyword == "element")
+        declared += std::fabs(std::strtod(count.c_str(), nullptr));
+    }
+  }
+  return declared;
+}
+
+// Every vertex and face of a mesh file takes at least one byte, so a header that declares more
+// elements than the file has bytes is malformed; refused before assimp allocates for it (an OFF
+// header declaring 10^100 faces made it ask for 61 GB).
+void checkDeclaredCounts(const std::string& path, std::uintmax_t bytes) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, 1 << 16)), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const double declared = declaredElements(head);
+  if (!(declared <= static_cast<double>(bytes))) {
+    std::ostringstream msg;
+    msg << "its header declares " << declared << " vertices and faces, more than a file of "
+        << bytes << " bytes can hold";
+    fail(path, msg.str());
+  }
 }
 
 float triangleArea(const TriangleMesh& m, const Triangle& t) {
@@ -93,7 +140,10 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
   MeshLoadReport report;
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "file does not exist");
-  if (fs::file_size(path, ec) == 0) fail(path, "file is empty");
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec) fail(path, "cannot read its size: " + ec.message());
+  if (bytes == 0) fail(path, "file is empty");
+  checkDeclaredCounts(path, bytes);
   if (!(options.scale > 0.0f) || !std::isfinite(options.scale))
     fail(path, "scale " + std::to_string(options.scale) + " must be a positive finite number");
 
