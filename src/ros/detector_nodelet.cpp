@@ -87,7 +87,15 @@ void DetectorNodelet::publishDiagnostics() {
        {"images_published", c.published},
        {"images_skipped", c.skipped},
        {"depth_unused", c.depth_unused},
-       {"hypotheses", c.hypotheses}}));
+       {"hypotheses", c.hypotheses},
+       // What never reached the detection: superseded in a full input buffer (node behind),
+       // lost before the node (header.seq gaps); depth images only with use_depth.
+       {"images_received", double(image_sub_.received())},
+       {"images_superseded", double(image_sub_.superseded())},
+       {"images_lost_before", double(image_sub_.lost())},
+       {"depth_received", double(depth_sub_.received())},
+       {"depth_superseded", double(depth_sub_.superseded())},
+       {"depth_lost_before", double(depth_sub_.lost())}}));
 }
 
 void DetectorNodelet::warn(const std::string& text) {

@@ -63,8 +63,9 @@ class DetectorNodeTest : public ::testing::Test {
         << "the detector node did not come up or takes no depth";
   }
 
-  // One image; with `depth` the registered depth image with the same stamp goes out first.
-  // Waits for the node's hypotheses of this image.
+  // One image; with `depth` the registered depth image with the same stamp goes out first, and
+  // the image once the node has received it (ROS orders no messages across topics; a slow node
+  // may see the image first). Waits for the node's hypotheses of this image.
   scene_graph_tracker::PoseHypothesisArrayConstPtr sendFrame(bool depth) {
     const ::ros::Time stamp = ::ros::Time::now();
     sensor_msgs::CameraInfo info = ros::toCameraInfo(cam_);
@@ -72,8 +73,9 @@ class DetectorNodeTest : public ::testing::Test {
     if (depth) {
       sensor_msgs::Image d = ros::depthToImage(depth_, cam_.width, cam_.height);
       d.header = info.header;
+      const double received = counter("depth_received");
       depth_pub_.publish(d);
-      ::ros::Duration(0.05).sleep();
+      waitForCounter("depth_received", received);
     }
     sensor_msgs::Image img = rgb_;
     img.header = info.header;
@@ -97,6 +99,27 @@ class DetectorNodeTest : public ::testing::Test {
           break;
         }
     return n;
+  }
+
+  // The detector's latest counters on /diagnostics (published every second), by key.
+  std::map<std::string, double> counters() {
+    std::map<std::string, double> out;
+    for (int i = 0; i < 10 && out.empty(); ++i) {
+      const auto msg = ::ros::topic::waitForMessage<diagnostic_msgs::DiagnosticArray>(
+          "/diagnostics", nh_, ::ros::Duration(3.0));
+      for (const auto& s : msg ? msg->status : std::vector<diagnostic_msgs::DiagnosticStatus>{})
+        if (s.name == "scene_graph_tracker: detector")
+          for (const auto& kv : s.values) out[kv.key] = std::stod(kv.value);
+    }
+    return out;
+  }
+  double counter(const std::string& key) {
+    const auto c = counters();
+    return c.count(key) ? c.at(key) : 0.0;
+  }
+  // Until `key` exceeds `before` (at most 15 s).
+  void waitForCounter(const std::string& key, double before) {
+    for (int i = 0; i < 15 && counter(key) <= before; ++i) ::ros::spinOnce();
   }
 
   bool warned(const std::string& text) const {
@@ -141,19 +164,6 @@ TEST_F(DetectorNodeTest, DistancesComeFromTheRegisteredDepthImage) {
   EXPECT_EQ(with->header.frame_id, "camera");
 }
 
-// The latest detector status on /diagnostics, by key.
-std::map<std::string, double> detectorCounters(::ros::NodeHandle& nh) {
-  std::map<std::string, double> out;
-  for (int i = 0; i < 10 && out.empty(); ++i) {
-    const auto msg = ::ros::topic::waitForMessage<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", nh, ::ros::Duration(3.0));
-    for (const auto& s : msg ? msg->status : std::vector<diagnostic_msgs::DiagnosticStatus>{})
-      if (s.name == "scene_graph_tracker: detector")
-        for (const auto& kv : s.values) out[kv.key] = std::stod(kv.value);
-  }
-  return out;
-}
-
 // Every bad image kind is skipped with a warning and counted; the node then detects as before.
 TEST_F(DetectorNodeTest, BadImagesAreSkippedCountedAndDetectionGoesOn) {
   const auto before = sendFrame(true);
@@ -174,16 +184,17 @@ TEST_F(DetectorNodeTest, BadImagesAreSkippedCountedAndDetectionGoesOn) {
   add([](auto&, auto& info) { info.K[0] = std::numeric_limits<double>::quiet_NaN(); });
   add([](auto&, auto& info) { info.K[4] = 0; });
   add([](auto&, auto& info) { info.width /= 2; });
-  for (auto& [img, info] : bad) {
+  for (auto& [img, info] : bad) {  // one at a time: each is received before the next goes out
     info.header.stamp = ::ros::Time::now(), info.header.frame_id = "camera";
     img.header = info.header;
+    const double received = counter("images_received");
     rgb_pub_.publish(img), info_pub_.publish(info);
-    ::ros::Duration(0.1).sleep();
+    waitForCounter("images_received", received);
   }
   const auto after = sendFrame(true);
   ASSERT_TRUE(after) << "the detector stopped publishing after bad images";
   EXPECT_EQ(located(*after), good);
-  const auto c = detectorCounters(nh_);
+  const auto c = counters();
   EXPECT_GE(c.count("images_skipped") ? c.at("images_skipped") : 0.0, double(bad.size()));
   EXPECT_TRUE(warned("image skipped"));
 }
