@@ -200,6 +200,16 @@ TEST(MeshValidation, HeaderCountsBeyondTheFileSize) {
       "float z\nelement face 99999999999\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectError([&] { loadMesh(ply); }, {ply, "declares", "bytes"});
+  // make fuzz (mesh): a broken PLY header made assimp's parser read past its buffer (SEGV); the
+  // header is checked against the format's grammar first.
+  const auto broken = writeFile(
+      "broken.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+      "float z\nelement face 1\nproperty listusemtl uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectError([&] { loadMesh(broken); }, {broken, "PLY header", "listusemtl"});
+  const auto no_end = writeFile("no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
+  expectError([&] { loadMesh(no_end); }, {no_end, "no end_header"});
   // The counts of a valid file pass (comments before them too).
   const auto ok =
       writeFile("ok.off", "OFF\n# a comment\n3 1 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n");

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "scene_graph_tracker/util/package_files.hpp"
 
@@ -24,44 +25,86 @@ namespace {
   throw MeshError("mesh '" + what + "': " + problem);
 }
 
-// The element counts an OFF or PLY header declares, summed (0 for other formats). assimp
-// allocates for the declared counts before it reads the elements.
-double declaredElements(const std::string& head) {
-  std::istringstream text(head);
-  std::string first;
-  text >> first;
+// The vertex and face counts an OFF header declares, summed: the first two numbers after the
+// keyword ('#' starts a comment).
+double offDeclared(std::istringstream& text) {
   double declared = 0.0;
-  if (first.size() >= 3 && first.compare(first.size() - 3, 3, "OFF") == 0) {
-    // OFF: the vertex and face counts are the first two numbers after the keyword ('#' comments).
-    std::string token;
-    for (int counts = 0; counts < 2 && text >> token;) {
-      if (token[0] == '#') {
-        std::getline(text, token);
-        continue;
-      }
-      declared += std::fabs(std::strtod(token.c_str(), nullptr)), ++counts;
+  std::string token;
+  for (int counts = 0; counts < 2 && text >> token;) {
+    if (token[0] == '#') {
+      std::getline(text, token);
+      continue;
     }
-  } else if (first == "ply") {
-    std::string line;  // "element <name> <count>" lines up to end_header
-    while (std::getline(text, line) && line.rfind("end_header", 0) != 0) {
-      std::istringstream words(line);
-      std::string keyword, name, count;
-      if (words >> keyword >> name >> count && keyword == "element")
-        declared += std::fabs(std::strtod(count.c_str(), nullptr));
-    }
+    declared += std::fabs(std::strtod(token.c_str(), nullptr)), ++counts;
   }
   return declared;
 }
 
-// Every vertex and face of a mesh file takes at least one byte, so a header that declares more
-// elements than the file has bytes is malformed; refused before assimp allocates for it (an OFF
-// header declaring 10^100 faces made it ask for 61 GB).
-void checkDeclaredCounts(const std::string& path, std::uintmax_t bytes) {
+bool plyScalarType(const std::string& t) {
+  static const char* const kTypes[] = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
+                                       "float", "double", "int8",    "uint8",  "int16", "uint16",
+                                       "int32", "uint32", "float32", "float64"};
+  return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+}
+
+// Whether one line of a PLY header after "format" is well formed ("comment", "obj_info",
+// "element NAME COUNT", "property TYPE NAME", "property list TYPE TYPE NAME"); adds an element's
+// count to `declared`.
+bool plyHeaderLine(const std::string& line, bool& in_element, double& declared) {
+  std::istringstream in(line);
+  std::vector<std::string> w;
+  for (std::string t; in >> t;) w.push_back(t);
+  if (w.empty()) return false;
+  if (w[0] == "comment" || w[0] == "obj_info") return true;
+  if (w[0] == "element") {
+    if (w.size() != 3 || w[2].find_first_not_of("0123456789") != std::string::npos) return false;
+    declared += std::strtod(w[2].c_str(), nullptr);
+    return in_element = true;
+  }
+  if (w[0] != "property" || !in_element) return false;
+  if (w.size() == 3) return plyScalarType(w[1]);
+  return w.size() == 5 && w[1] == "list" && plyScalarType(w[2]) && plyScalarType(w[3]);
+}
+
+// A PLY header checked against the format's grammar (assimp's parser reads past its buffer on some
+// broken ones); returns the element counts it declares, summed.
+double plyDeclared(std::istringstream& text, const std::string& path) {
+  std::string line;
+  std::getline(text, line);  // the rest of the "ply" line
+  std::getline(text, line);
+  std::istringstream format(line);
+  std::string keyword, kind, version, extra;
+  format >> keyword >> kind >> version;
+  if (keyword != "format" || version != "1.0" || format >> extra ||
+      (kind != "ascii" && kind != "binary_little_endian" && kind != "binary_big_endian"))
+    fail(path, "PLY header: '" + line + "' is not a format line");
+  bool in_element = false;
+  double declared = 0.0;
+  while (std::getline(text, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line == "end_header") return declared;
+    if (!plyHeaderLine(line, in_element, declared))
+      fail(path, "PLY header: '" + line.substr(0, 80) + "' is not a header line");
+  }
+  fail(path, "PLY header: no end_header in the first 64 kB");
+}
+
+// Refuses a broken PLY header, and an OFF or PLY header that declares more vertices and faces than
+// the file has bytes (every element takes at least one): assimp allocates for the declared counts
+// before it reads them (an OFF header declaring 10^100 faces made it ask for 61 GB).
+void checkHeader(const std::string& path, std::uintmax_t bytes) {
   std::ifstream in(path, std::ios::binary);
   std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, 1 << 16)), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
-  const double declared = declaredElements(head);
+  std::istringstream text(head);
+  std::string first;
+  text >> first;
+  double declared = 0.0;
+  if (first.size() >= 3 && first.compare(first.size() - 3, 3, "OFF") == 0)
+    declared = offDeclared(text);
+  else if (first == "ply")
+    declared = plyDeclared(text, path);
   if (!(declared <= static_cast<double>(bytes))) {
     std::ostringstream msg;
     msg << "its header declares " << declared << " vertices and faces, more than a file of "
@@ -143,7 +186,7 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
   const std::uintmax_t bytes = fs::file_size(path, ec);
   if (ec) fail(path, "cannot read its size: " + ec.message());
   if (bytes == 0) fail(path, "file is empty");
-  checkDeclaredCounts(path, bytes);
+  checkHeader(path, bytes);
   if (!(options.scale > 0.0f) || !std::isfinite(options.scale))
     fail(path, "scale " + std::to_string(options.scale) + " must be a positive finite number");
 
