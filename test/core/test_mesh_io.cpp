@@ -194,6 +194,9 @@ TEST(MeshValidation, HeaderCountsBeyondTheFileSize) {
   const auto off =
       writeFile("huge.off", "OFF\n3 1000000000000 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n");
   expectError([&] { loadMesh(off); }, {off, "declares 1e+12", "bytes"});
+  const auto glued =
+      writeFile("glued.off", "OFF3 1000000000000 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n");
+  expectError([&] { loadMesh(glued); }, {glued, "declares", "bytes"});
   const auto ply = writeFile(
       "huge.ply",
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "

@@ -26,11 +26,12 @@ namespace {
 }
 
 // The vertex and face counts an OFF header declares, summed: the first two numbers after the
-// keyword ('#' starts a comment).
-double offDeclared(std::istringstream& text) {
+// keyword, which may be glued to the first ("OFF3"; '#' starts a comment).
+double offDeclared(const std::string& glued, std::istringstream& text) {
   double declared = 0.0;
-  std::string token;
-  for (int counts = 0; counts < 2 && text >> token;) {
+  int counts = 0;
+  if (!glued.empty()) declared += std::fabs(std::strtod(glued.c_str(), nullptr)), ++counts;
+  for (std::string token; counts < 2 && text >> token;) {
     if (token[0] == '#') {
       std::getline(text, token);
       continue;
@@ -101,8 +102,9 @@ void checkHeader(const std::string& path, std::uintmax_t bytes) {
   std::string first;
   text >> first;
   double declared = 0.0;
-  if (first.size() >= 3 && first.compare(first.size() - 3, 3, "OFF") == 0)
-    declared = offDeclared(text);
+  const std::size_t off = first.find("OFF");  // OFF, COFF, NOFF, STOFF, 4OFF, ...
+  if (off != std::string::npos && off <= 4)
+    declared = offDeclared(first.substr(off + 3), text);
   else if (first == "ply")
     declared = plyDeclared(text, path);
   if (!(declared <= static_cast<double>(bytes))) {
