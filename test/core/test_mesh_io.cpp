@@ -211,6 +211,9 @@ TEST(MeshValidation, HeaderCountsBeyondTheFileSize) {
       "float z\nelement face 1\nproperty listusemtl uchar int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   expectError([&] { loadMesh(broken); }, {broken, "PLY header", "listusemtl"});
+  const auto magic =
+      writeFile("magic.ply", "ply`\nformat ascii 1.0\nelement vertex 0\nend_header\n");
+  expectError([&] { loadMesh(magic); }, {magic, "first line is not 'ply'"});
   const auto no_end = writeFile("no_end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
   expectError([&] { loadMesh(no_end); }, {no_end, "no end_header"});
   // The counts of a valid file pass (comments before them too).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -71,7 +72,9 @@ bool plyHeaderLine(const std::string& line, bool& in_element, double& declared) 
 // broken ones); returns the element counts it declares, summed.
 double plyDeclared(std::istringstream& text, const std::string& path) {
   std::string line;
-  std::getline(text, line);  // the rest of the "ply" line
+  std::getline(text, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "ply") fail(path, "PLY header: the first line is not 'ply'");
   std::getline(text, line);
   std::istringstream format(line);
   std::string keyword, kind, version, extra;
@@ -98,15 +101,20 @@ void checkHeader(const std::string& path, std::uintmax_t bytes) {
   std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(bytes, 1 << 16)), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::istringstream text(head);
-  std::string first;
-  text >> first;
   double declared = 0.0;
-  const std::size_t off = first.find("OFF");  // OFF, COFF, NOFF, STOFF, 4OFF, ...
-  if (off != std::string::npos && off <= 4)
-    declared = offDeclared(first.substr(off + 3), text);
-  else if (first == "ply")
+  // assimp picks the reader by the extension first, by the content otherwise.
+  if (ext == ".ply" || head.rfind("ply", 0) == 0) {
     declared = plyDeclared(text, path);
+  } else {
+    std::string first;
+    text >> first;
+    const std::size_t off = first.find("OFF");  // OFF, COFF, NOFF, STOFF, 4OFF, ...
+    if (ext == ".off" || (off != std::string::npos && off <= 4))
+      declared = offDeclared(off == std::string::npos ? first : first.substr(off + 3), text);
+  }
   if (!(declared <= static_cast<double>(bytes))) {
     std::ostringstream msg;
     msg << "its header declares " << declared << " vertices and faces, more than a file of "
