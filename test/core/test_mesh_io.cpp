@@ -222,6 +222,23 @@ TEST(MeshValidation, HeaderCountsBeyondTheFileSize) {
   EXPECT_EQ(loadMesh(ok).triangles.size(), 1u);
 }
 
+// Faces of more than three corners are split by the loader. The L-shaped top of a prism is
+// concave: a fan from its first corner would leave the outline and double-count area.
+TEST(MeshIo, ConcavePolygonFacesAreTriangulatedInsideTheirOutline) {
+  const auto path = writeFile("l_panel.obj",
+                              "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
+                              "f 1 2 3 4 5 6\n");
+  MeshLoadReport report;
+  const TriangleMesh mesh = loadMesh(path, {}, &report);
+  EXPECT_EQ(mesh.triangleCount(), 4u);
+  EXPECT_EQ(report.triangulated_polygons, 1u);
+  EXPECT_NEAR(mesh.surfaceArea(), 3.0, 1e-6);
+  for (const Triangle& t : mesh.triangles) {
+    const auto& v = mesh.vertices;
+    EXPECT_GT((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).z(), 0.0f) << "a triangle is flipped";
+  }
+}
+
 TEST(MeshValidation, UnitScale) {
   // A 180 mm part stored in millimetres is 180 m large: rejected with a hint, loads with scale.
   std::string obj = "v 0 0 0\nv 180 0 0\nv 0 87 0\nv 0 0 42\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";

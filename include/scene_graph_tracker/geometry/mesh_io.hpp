@@ -28,6 +28,7 @@ struct MeshLoadOptions {
 struct MeshLoadReport {
   std::size_t dropped_degenerate = 0;
   std::size_t merged_meshes = 0;
+  std::size_t triangulated_polygons = 0;  // faces of more than three corners, split by the loader
 };
 
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {},

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <vector>
 
+#include "scene_graph_tracker/geometry/polygon_triangulation.hpp"
 #include "scene_graph_tracker/util/package_files.hpp"
 
 namespace fs = std::filesystem;
@@ -132,28 +133,41 @@ bool isDegenerate(const TriangleMesh& m, const Triangle& t, float min_area) {
   return t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(triangleArea(m, t) > min_area);
 }
 
+// Appends the triangles of one face: a triangle as it is, a polygon split by triangulatePolygon;
+// points and lines carry no surface.
+void addFace(const aiMesh* mesh, unsigned f, std::uint32_t offset, TriangleMesh& out,
+             MeshLoadReport& report, const std::string& path) {
+  const aiFace& face = mesh->mFaces[f];
+  if (face.mNumIndices < 3) return;
+  if (face.mNumIndices > kMaxPolygonCorners)
+    fail(path, "face " + std::to_string(f) + " has " + std::to_string(face.mNumIndices) +
+                   " corners, more than the " + std::to_string(kMaxPolygonCorners) + " accepted");
+  std::vector<Eigen::Vector3f> corners;
+  for (unsigned c = 0; c < face.mNumIndices; ++c) {
+    if (face.mIndices[c] >= mesh->mNumVertices)
+      fail(path, "face " + std::to_string(f) + " references vertex " +
+                     std::to_string(face.mIndices[c]) + " of " +
+                     std::to_string(mesh->mNumVertices));
+    corners.push_back(out.vertices[offset + face.mIndices[c]]);
+  }
+  for (const auto& t : triangulatePolygon(corners))
+    out.triangles.push_back(
+        {face.mIndices[t[0]] + offset, face.mIndices[t[1]] + offset, face.mIndices[t[2]] + offset});
+  if (face.mNumIndices > 3) ++report.triangulated_polygons;
+}
+
 void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, TriangleMesh& out,
              MeshLoadReport& report, const std::string& path) {
   const aiMatrix4x4 T = parent * node->mTransformation;
   for (unsigned k = 0; k < node->mNumMeshes; ++k) {
     const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
-    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    if (!(mesh->mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON))) continue;
     const auto offset = static_cast<std::uint32_t>(out.vertices.size());
     for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
       const aiVector3D v = T * mesh->mVertices[i];
       out.vertices.emplace_back(v.x, v.y, v.z);
     }
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-      for (unsigned c = 0; c < 3; ++c)
-        if (face.mIndices[c] >= mesh->mNumVertices)
-          fail(path, "face " + std::to_string(f) + " references vertex " +
-                         std::to_string(face.mIndices[c]) + " of " +
-                         std::to_string(mesh->mNumVertices));
-      out.triangles.push_back(
-          {face.mIndices[0] + offset, face.mIndices[1] + offset, face.mIndices[2] + offset});
-    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) addFace(mesh, f, offset, out, report, path);
     ++report.merged_meshes;
   }
   for (unsigned c = 0; c < node->mNumChildren; ++c)
@@ -203,11 +217,10 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
   Assimp::Importer importer;
   // Keep COLLADA vertices as authored (URDF meshes are Z-up; assimp would rotate them to Y-up).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  // No JoinIdenticalVertices/FindDegenerates: we validate what the file really holds.
-  // ValidateDataStructure runs first: a malformed import (e.g. an OFF file with fewer faces than
-  // its header says) is refused here instead of tripping an assertion in Triangulate.
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType);
+  // No post-processing beyond validation: JoinIdenticalVertices/FindDegenerates would hide what
+  // the file really holds, and assimp's Triangulate asserts (aborts the process) on face lists
+  // that disagree with their header, so collect() triangulates polygons itself.
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
   if (!scene || !scene->mRootNode)
     fail(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
   TriangleMesh mesh;
