@@ -106,7 +106,9 @@ suite: build
 # plane of the first frame's depth). REAL_DETECTOR= starts tracks from the given poses plus the simulated detector's noise;
 # a model yaml from the package's keypoint detector instead. Writes REAL_OUTPUT/report.json
 # (objects.depth_residual_median_mm and gt_depth_residual_median_mm too), report.md, plots, the
-# overlay frames REAL_OUTPUT/overlay/ and their contact sheet REAL_OUTPUT/overlay.jpg.
+# overlay frames REAL_OUTPUT/overlay/ and their contact sheet REAL_OUTPUT/overlay.jpg. With a
+# REAL_DETECTOR, the detector alone is also scored on the frames labelled from the given poses
+# (sequence_to_dataset, evaluate_detector): REAL_OUTPUT/detector/report.json.
 REAL_SEQUENCE ?= ../shared/data/real/visp_rbt
 REAL_CATALOG ?= config/real/visp_rbt.yaml
 REAL_DETECTOR ?=
@@ -121,6 +123,10 @@ real: build
 	  --mesh-dir $(REAL_SEQUENCE)/models --map $(REAL_OUTPUT)/plane.ply \
 	  --odom-frame map --base-frame camera_color_optical_frame --localization external --no-relations --overlay \
 	  $(if $(REAL_DETECTOR),--detector $(REAL_DETECTOR)) $(REAL_EVALUATE_ARGS)
+	$(if $(REAL_DETECTOR),$(TOOLS)/sequence_to_dataset --sequence $(REAL_SEQUENCE) --catalog $(REAL_CATALOG) \
+	  --mesh-dir $(REAL_SEQUENCE)/models --output $(REAL_OUTPUT)/frames && \
+	  $(TOOLS)/evaluate_detector --dataset $(REAL_OUTPUT)/frames --model $(REAL_DETECTOR) --catalog $(REAL_CATALOG) \
+	  --mesh-dir $(REAL_SEQUENCE)/models --output $(REAL_OUTPUT)/detector)
 
 # The demo bag in a loop at SOAK_RATE x through tracker + detector + semap_bridge on a roscore of
 # its own for SOAK_MINUTES; RSS, descriptors, threads, counters and database size every 10 s, in
@@ -160,6 +166,10 @@ MODEL_THRESHOLD_BETA ?= 1
 MODEL_CATALOG ?= package://scene_graph_tracker/config/objects.yaml
 MODEL_MESH_DIR ?=
 MODEL_CLASSES = --catalog $(MODEL_CATALOG) $(if $(MODEL_MESH_DIR),--mesh-dir $(MODEL_MESH_DIR))
+# Appearance randomisation of the train renders (render_dataset --textures, --camera-effects): the
+# probability that a surface is patterned, and that an image gets a camera's exposure, blur, noise, JPEG
+MODEL_TEXTURES ?= 0
+MODEL_CAMERA_EFFECTS ?= 0
 # Where the trained model goes (its .yaml beside it); another path keeps the shipped one
 MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
@@ -167,7 +177,8 @@ MODEL_INIT ?=
 model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
-	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
+	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES) \
+	  --textures $(MODEL_TEXTURES) --camera-effects $(MODEL_CAMERA_EFFECTS)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
 	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \

@@ -4,11 +4,16 @@
 //   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
 //                                             [--bench-fraction F] [--labels object|cuboid]
 //                                             [--catalog FILE] [--mesh-dir D]
+//                                             [--textures P] [--camera-effects P]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
 // upright side by side on a wooden bench, a person nearby, the camera at head height 0.9-3.4 m
 // away). F = 0 (the default) renders exactly the images of earlier versions.
+//
+// Appearance (simulation/appearance.hpp): --textures P patterns each surface with probability P,
+// --camera-effects P gives each image a camera's exposure, white balance, gamma, blur, noise and
+// JPEG with probability P; both 0 by default, which leaves the images as they were.
 //
 // DIR/images/000123.png   640x480 RGB
 // DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
@@ -29,10 +34,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "scene_graph_tracker/evaluation/keypoint_dataset.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/simulation/appearance.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
@@ -57,6 +65,8 @@ struct Args {
   double max_distance = 2.5;
   double bench_fraction = 0.0;
   bool cuboid_labels = false;
+  double textures = 0.0;        // probability that a surface is patterned
+  double camera_effects = 0.0;  // probability that an image gets camera effects
 };
 
 struct Rng {
@@ -110,14 +120,16 @@ struct Placed {
 
 class DatasetRenderer {
  public:
-  DatasetRenderer(const sgt::ObjectCatalog& catalog, std::uint32_t seed, double max_distance,
-                  double bench_fraction, bool cuboid_labels)
+  DatasetRenderer(const sgt::ObjectCatalog& catalog, const Args& args)
       : catalog_(catalog),
         classes_(catalog.listed()),
-        seed_(seed),
-        max_distance_(max_distance),
-        bench_fraction_(bench_fraction),
-        cuboid_labels_(cuboid_labels) {
+        seed_(args.seed),
+        max_distance_(args.max_distance),
+        bench_fraction_(args.bench_fraction),
+        cuboid_labels_(args.cuboid_labels),
+        textures_(args.textures),
+        camera_effects_(args.camera_effects) {
+    const std::uint32_t seed = seed_;
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2,
     b.target_triangles = 80000, b.seed = seed;
@@ -181,6 +193,8 @@ class DatasetRenderer {
   void clear();
   void writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
                    const sgt::SimulatedScan& scan);
+  void randomisePatterns(Rng& rng);
+  sgt::sim::CameraEffects drawCameraEffects(Rng& rng) const;
 
   const sgt::ObjectCatalog& catalog_;
   const std::vector<std::string> classes_;  // label id -> class name
@@ -189,6 +203,7 @@ class DatasetRenderer {
   double bench_fraction_;
   bool bench_ = false;  // the current image is a bench scene
   bool cuboid_labels_;
+  double textures_, camera_effects_;
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -205,6 +220,40 @@ void DatasetRenderer::clear() {
   for (const auto n : extra_nodes_) scene_.removeInstance(n);
   placed_.clear(), extra_nodes_.clear();
   colours_.albedo.clear();
+  colours_.patterns.clear();
+}
+
+// Each coloured surface (objects, table, walls, distractors, people) patterned with probability
+// textures_: checker, stripes, smooth noise or blotches in a second random colour, 3 mm to 8 cm.
+void DatasetRenderer::randomisePatterns(Rng& rng) {
+  std::vector<sgt::NodeId> nodes;
+  for (const auto& [node, albedo] : colours_.albedo) nodes.push_back(node);
+  std::sort(nodes.begin(), nodes.end());
+  for (const sgt::NodeId node : nodes) {
+    if (!rng.chance(textures_)) continue;
+    sgt::sim::SurfacePattern p;
+    p.kind = static_cast<sgt::sim::SurfacePattern::Kind>(rng.integer(0, 3));
+    p.second = rng.colour();
+    p.scale = static_cast<float>(std::exp(rng.uniform(std::log(0.003), std::log(0.08))));
+    p.direction = Vector3f(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    p.direction = p.direction.norm() > 1e-3f ? p.direction.normalized() : Vector3f::UnitX();
+    p.seed = static_cast<std::uint32_t>(rng.integer(0, 1 << 30));
+    colours_.patterns[node] = p;
+  }
+}
+
+// Exposure, white balance and gamma of a cheap camera, half the time blur and JPEG, and noise.
+sgt::sim::CameraEffects DatasetRenderer::drawCameraEffects(Rng& rng) const {
+  sgt::sim::CameraEffects e;
+  e.gain = static_cast<float>(rng.uniform(0.6, 1.5));
+  e.white_balance =
+      Vector3f(rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15));
+  e.gamma = static_cast<float>(rng.uniform(0.7, 1.4));
+  e.blur_sigma = rng.chance(0.5) ? static_cast<float>(rng.uniform(0.3, 1.5)) : 0.0f;
+  e.noise_sigma = static_cast<float>(rng.uniform(0.0, 8.0));
+  e.jpeg_quality = rng.chance(0.5) ? rng.integer(40, 95) : 0;
+  e.seed = static_cast<std::uint32_t>(rng.integer(0, 1 << 30));
+  return e;
 }
 
 // A table (or the bare floor) in a random building room or in a room of plain coloured walls;
@@ -460,26 +509,19 @@ void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
     style.background = rng.colour() * 0.3f;
     style.floor_tile = rng.uniform(0.2, 0.8);
   }
+  // Appearance is drawn from a stream of its own, so that without it the scenes stay as they were.
+  Rng looks{std::mt19937(static_cast<std::uint32_t>(seed_ * 31337u + index * 104729u + 11u))};
+  if (textures_ > 0.0) randomisePatterns(looks);
   const sgt::SimulatedScan scan = sgt::simulate(scene_, sgt::makeRays(camera_), T_world_camera);
   const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
   cv::Mat bgr;
   cv::cvtColor(
       cv::Mat(camera_.height, camera_.width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data())), bgr,
       cv::COLOR_RGB2BGR);
-  char name[32];
-  std::snprintf(name, sizeof name, "%06zu", index);
-  cv::imwrite((dir / "images" / (std::string(name) + ".png")).string(), bgr);
+  if (camera_effects_ > 0.0 && looks.chance(camera_effects_))
+    sgt::sim::applyCameraEffects(bgr, drawCameraEffects(looks));
+  cv::imwrite((dir / "images" / (sgt::datasetFrameName(index) + ".png")).string(), bgr);
   writeLabels(index, dir, T_world_camera, scan);
-}
-
-void writeMatrix(std::ostream& os, const Isometry3d& T) {
-  os << "[";
-  for (int r = 0; r < 4; ++r) {
-    os << (r ? ", [" : "[");
-    for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << T.matrix()(r, c);
-    os << "]";
-  }
-  os << "]";
 }
 
 void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
@@ -497,16 +539,7 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
       ++s.pixels, s.x0 = std::min(s.x0, u), s.y0 = std::min(s.y0, v), s.x1 = std::max(s.x1, u),
                   s.y1 = std::max(s.y1, v);
     }
-  char name[32];
-  std::snprintf(name, sizeof name, "%06zu", index);
-  std::ofstream txt(dir / "labels" / (std::string(name) + ".txt"));
-  std::ofstream json(dir / "poses" / (std::string(name) + ".json"));
-  txt.precision(6), json.precision(9);
-  const double W = camera_.width, H = camera_.height;
-  json << "{\"scene\": \"" << (bench_ ? "bench" : "random") << "\", \"width\": " << camera_.width
-       << ", \"height\": " << camera_.height << ", \"K\": [" << camera_.fx << ", 0, " << camera_.cx
-       << ", 0, " << camera_.fy << ", " << camera_.cy << ", 0, 0, 1],\n \"objects\": [";
-  bool first = true;
+  std::vector<sgt::DatasetObject> objects;
   for (const auto& p : placed_) {
     const auto it = vis.find(p.node);
     if (it == vis.end() || it->second.pixels < kMinVisiblePixels) continue;
@@ -516,26 +549,10 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
     const Isometry3d T_label = cuboid_labels_
                                    ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
                                    : sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
-    const auto proj = sgt::detection::projectCuboid(camera_, T_label, lib_.class_boxes[p.class_id]);
-    txt << p.class_id << ' ' << (s.x0 + s.x1 + 1) / (2 * W) << ' ' << (s.y0 + s.y1 + 1) / (2 * H)
-        << ' ' << (s.x1 - s.x0 + 1) / W << ' ' << (s.y1 - s.y0 + 1) / H;
-    for (int k = 0; k < sgt::detection::kCuboidKeypoints; ++k) {
-      if (proj.inside[k])
-        txt << ' ' << (proj.uv[k].x() + 0.5) / W << ' ' << (proj.uv[k].y() + 0.5) / H << " 2";
-      else
-        txt << " 0 0 0";
-    }
-    txt << '\n';
-    json << (first ? "\n  " : ",\n  ") << "{\"class\": \"" << classes_[p.class_id]
-         << "\", \"class_id\": " << p.class_id << ", \"visible_pixels\": " << s.pixels
-         << ", \"T_camera_object\": ";
-    writeMatrix(json, T);
-    json << ", \"T_camera_object_label\": ";
-    writeMatrix(json, T_label);
-    json << "}";
-    first = false;
+    objects.push_back({p.class_id, classes_[p.class_id], s.pixels, s.x0, s.y0, s.x1, s.y1, T,
+                       T_label, lib_.class_boxes[p.class_id]});
   }
-  json << "]}\n";
+  sgt::writeDatasetLabels(dir, index, bench_ ? "bench" : "random", camera_, objects);
 }
 
 void usage(std::ostream& os) {
@@ -553,7 +570,13 @@ void usage(std::ostream& os) {
         "  --catalog   object catalog whose classes are rendered, in its order (default the "
         "package's\n"
         "              config/objects.yaml)\n"
-        "  --mesh-dir  use the meshes in D for the catalog classes\n";
+        "  --mesh-dir  use the meshes in D for the catalog classes\n"
+        "  --textures P        each surface patterned (checker, stripes, noise, blotches) with "
+        "probability P\n"
+        "                      (default 0)\n"
+        "  --camera-effects P  each image given exposure, white balance, gamma, blur, noise and "
+        "JPEG with\n"
+        "                      probability P (default 0)\n";
 }
 
 }  // namespace
@@ -580,6 +603,10 @@ int main(int argc, char** argv) {
       args.max_distance = std::stod(v);
     else if (a == "--bench-fraction")
       args.bench_fraction = std::stod(v);
+    else if (a == "--textures")
+      args.textures = std::stod(v);
+    else if (a == "--camera-effects")
+      args.camera_effects = std::stod(v);
     else if (a == "--labels") {
       if (v != "object" && v != "cuboid")
         return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
@@ -588,28 +615,28 @@ int main(int argc, char** argv) {
       return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
   if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5) ||
-      !(args.bench_fraction >= 0.0 && args.bench_fraction <= 1.0))
+      !(args.bench_fraction >= 0.0 && args.bench_fraction <= 1.0) ||
+      !(args.textures >= 0.0 && args.textures <= 1.0) ||
+      !(args.camera_effects >= 0.0 && args.camera_effects <= 1.0))
     return usage(std::cerr), 2;
   try {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog = sgt::loadObjectCatalog(args.catalog, args.mesh_dir);
-    DatasetRenderer renderer(catalog, args.seed, args.max_distance, args.bench_fraction,
-                             args.cuboid_labels);
+    DatasetRenderer renderer(catalog, args);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       renderer.render(i, dir);
       bar.update(i + 1);
     }
     bar.finish();
-    std::ofstream yaml(dir / "dataset.yaml");
-    yaml << "# rendered by render_dataset --count " << args.count << " --seed " << args.seed
-         << " --max-distance " << args.max_distance << " --bench-fraction " << args.bench_fraction
-         << " --labels " << (args.cuboid_labels ? "cuboid" : "object") << " --catalog "
-         << args.catalog << "\npath: " << dir.string()
-         << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
-    for (std::size_t c = 0; c < catalog.listed().size(); ++c)
-      yaml << "  " << c << ": " << catalog.listed()[c] << "\n";
+    std::ostringstream comment;
+    comment << "rendered by render_dataset --count " << args.count << " --seed " << args.seed
+            << " --max-distance " << args.max_distance << " --bench-fraction "
+            << args.bench_fraction << " --labels " << (args.cuboid_labels ? "cuboid" : "object")
+            << " --catalog " << args.catalog << " --textures " << args.textures
+            << " --camera-effects " << args.camera_effects;
+    sgt::writeDatasetYaml(dir, comment.str(), catalog.listed());
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";
     return 1;

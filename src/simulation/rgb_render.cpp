@@ -49,6 +49,7 @@ std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan,
       tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         NodeId cached_node = kNoNode;  // neighbouring pixels mostly show the same node
         Eigen::Vector3f cached = fallback;
+        const SurfacePattern* pattern = nullptr;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           Eigen::Vector3f c = style.background;
           const NodeId node = scan.node[i];
@@ -61,9 +62,15 @@ std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan,
               if (node != cached_node) {
                 const auto it = colours.albedo.find(node);
                 cached = it != colours.albedo.end() ? it->second : fallback;
+                const auto p = colours.patterns.find(node);
+                pattern = p != colours.patterns.end() ? &p->second : nullptr;
                 cached_node = node;
               }
               albedo = cached;
+              if (pattern) {
+                const float w = patternWeight(*pattern, R * scan.points[i] + t);
+                albedo = (1.0f - w) * albedo + w * pattern->second;
+              }
             }
             const float range = scan.range[i];
             const float head =

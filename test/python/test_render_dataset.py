@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """render_dataset's bench scenes (--bench-fraction) against its random scenes; the classes come from
-a catalog (--catalog), in its order.
+a catalog (--catalog), in its order; appearance randomisation (--textures, --camera-effects) changes
+the pixels only.
 
   /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
 
@@ -124,11 +125,28 @@ class BenchScenes(unittest.TestCase):
                for row in np.loadtxt(os.path.join(out, "labels", name), ndmin=2)}
         self.assertEqual(ids, {0, 1})
 
+    def test_appearance_changes_the_pixels_and_not_the_labels(self):
+        out = os.path.join(self.tmp.name, "looks")
+        subprocess.run([TOOL, "--output", out, "--count", "12", "--seed", "5", "--textures", "1",
+                        "--camera-effects", "1"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        random = os.path.join(self.tmp.name, "random")
+        self.assertEqual(digest(out, "labels"), digest(random, "labels"))
+        self.assertEqual(digest(out, "poses"), digest(random, "poses"))
+        from PIL import Image
+        changed = []
+        for name in sorted(os.listdir(os.path.join(out, "images"))):
+            a = np.asarray(Image.open(os.path.join(random, "images", name)), dtype=float)
+            b = np.asarray(Image.open(os.path.join(out, "images", name)), dtype=float)
+            changed.append(np.mean(np.abs(a - b).sum(2) > 30))
+        self.assertGreater(min(changed), 0.05, changed)  # every image looks different
+        self.assertIn("--textures 1 --camera-effects 1", open(os.path.join(out, "dataset.yaml")).read())
+
     def test_a_fraction_outside_zero_to_one_is_refused(self):
-        r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", "--bench-fraction", "1.5"],
-                           capture_output=True, text=True)
-        self.assertEqual(r.returncode, 2)
-        self.assertIn("--bench-fraction", r.stderr)
+        for flag in ("--bench-fraction", "--textures", "--camera-effects"):
+            r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", flag, "1.5"],
+                               capture_output=True, text=True)
+            self.assertEqual(r.returncode, 2, flag)
+            self.assertIn(flag, r.stderr)
 
 
 if __name__ == "__main__":

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "scene_graph_tracker/evaluation/keypoint_dataset.hpp"
 #include "scene_graph_tracker/evaluation/rgbd_sequence.hpp"
 #include "scene_graph_tracker/evaluation/surface_fit.hpp"
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
@@ -231,6 +234,47 @@ TEST_F(SequenceBag, HypothesesCarryTheSimulatedDetectorsNoiseAndSeededMisses) {
     const Eigen::Isometry3d truth = T_map_cameras_[0].inverse() * T_map_object_;
     EXPECT_LT((first[i].translation() - truth.translation()).norm(), 0.1);
   }
+}
+
+// sequence_to_dataset's labels: the box and pixel count are the cube's depth pixels, the centre
+// keypoint is the projection of its given position, and the written line says so.
+TEST_F(SequenceBag, FramesAreLabelledFromTheirGivenPoses) {
+  const RgbdSequence s = loadRgbdSequence(dir_);
+  const auto cat = catalog();
+  SequenceLabeller labeller(*cat, s, false, 10);
+  const auto& f = s.frames.front();
+  const std::vector<DatasetObject> objects = labeller.label(f);
+  ASSERT_EQ(objects.size(), 1u);
+  const DatasetObject& o = objects[0];
+  const cv::Mat depth = cv::imread(f.depth_path, cv::IMREAD_UNCHANGED);
+  cv::Mat mask = depth > 0;
+  const cv::Rect box = cv::boundingRect(mask);
+  EXPECT_EQ(o.visible_pixels, cv::countNonZero(mask));
+  EXPECT_EQ(o.x0, box.x);
+  EXPECT_EQ(o.y0, box.y);
+  EXPECT_EQ(o.x1, box.x + box.width - 1);
+  EXPECT_EQ(o.y1, box.y + box.height - 1);
+  EXPECT_EQ(o.class_name, "cube");
+  EXPECT_TRUE(o.T_camera_object.isApprox(f.T_camera_object.at("cube"), 1e-9));
+
+  const std::string out = test::tempDir() + "/labels_" + std::to_string(count_);
+  std::filesystem::create_directories(out + "/labels");
+  std::filesystem::create_directories(out + "/poses");
+  writeDatasetLabels(out, 0, "real", s.camera, objects);
+  std::ifstream txt(out + "/labels/000000.txt");
+  std::vector<double> v{std::istream_iterator<double>(txt), std::istream_iterator<double>()};
+  ASSERT_EQ(v.size(), 5u + 27u);
+  EXPECT_EQ(v[0], 0.0);
+  const Eigen::Vector3d c = o.T_camera_object.translation();
+  const double u = s.camera.fx * c.x() / c.z() + s.camera.cx,
+               w = s.camera.fy * c.y() / c.z() + s.camera.cy;
+  EXPECT_NEAR(v[5 + 3 * 8] * s.camera.width - 0.5, u, 1e-3);  // keypoint 8: the centre
+  EXPECT_NEAR(v[5 + 3 * 8 + 1] * s.camera.height - 0.5, w, 1e-3);
+  EXPECT_EQ(v[5 + 3 * 8 + 2], 2.0);
+
+  const ObjectCatalog other = loadObjectCatalog(test::writeFile(
+      "other_catalog.yaml", "objects:\n  dragon:\n    mesh: " + dir_ + "/models/cube.ply\n"));
+  EXPECT_THROW(SequenceLabeller(other, s, false), std::runtime_error);
 }
 
 TEST(RealSequence, TheRealSensorSequenceLoadsWhenPresent) {

@@ -1,12 +1,15 @@
 // RGB rendering of a ray-cast camera frame: per-node albedo (objects, distractors), simple
 // procedural colours for the static map (tiled floor, walls, ceiling, wooden table tops), and
-// Lambert shading with an ambient term, a light from above and a weak head light.
+// Lambert shading with an ambient term, a light from above and a weak head light. A node may
+// carry a procedural pattern (simulation/appearance.hpp) that mixes its albedo with a second
+// colour.
 #pragma once
 
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
 
+#include "scene_graph_tracker/simulation/appearance.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::sim {
@@ -23,8 +26,9 @@ struct RenderStyle {
 };
 
 struct NodeColours {
-  std::unordered_map<NodeId, Eigen::Vector3f> albedo;  // RGB 0..1 per node
-  NodeId static_map = kNoNode;                         // coloured by staticMapColour
+  std::unordered_map<NodeId, Eigen::Vector3f> albedo;   // RGB 0..1 per node
+  std::unordered_map<NodeId, SurfacePattern> patterns;  // nodes whose albedo is patterned
+  NodeId static_map = kNoNode;                          // coloured by staticMapColour
 };
 
 // Albedo of the static map at a world point with a unit world normal.
