@@ -4,7 +4,8 @@ the Xtion's compressed RGB and compressedDepth topics, amcl's map -> odom) plays
 launch file under test. Checks that the tracker publishes objects, that every confirmed track lies
 within ~max_error of a true object of its class (the bag's /ground_truth/objects), that at least
 ~min_tracked objects are tracked so, and with ~detections (a topic) that the detector published
-detections from the compressed images."""
+detections from the compressed images. ~slowdown (a sanitized build's, 1 otherwise) stretches its
+waits."""
 import math
 import sys
 import time
@@ -21,6 +22,7 @@ CONFIRMED = 1
 class TiagoBagTest(unittest.TestCase):
     def setUp(self):
         self.truth, self.frames, self.detections = {}, [], 0  # truth: stamp -> {id: (class, xyz)}
+        self.slowdown = rospy.get_param("~slowdown", 1.0)
         rospy.Subscriber("/ground_truth/objects", ObjectPoseArray, self.on_truth, queue_size=50)
         rospy.Subscriber("/tracker/tracked_objects", TrackedObjectArray, self.frames.append,
                          queue_size=50)
@@ -41,7 +43,7 @@ class TiagoBagTest(unittest.TestCase):
 
     def start_the_bag(self):
         """The player starts paused: play once the tracker is up (it loads the map first)."""
-        end = time.time() + 120.0
+        end = time.time() + 120.0 * self.slowdown
         while time.time() < end and not rospy.is_shutdown():
             if any(t == "/tracker/tracked_objects" for t, _ in rospy.get_published_topics()):
                 break
@@ -50,16 +52,16 @@ class TiagoBagTest(unittest.TestCase):
         rospy.ServiceProxy("/player/pause_playback", SetBool)(False)
 
     def wait_for_the_bag(self):
-        """Until the bag ended: the tracker silent for 5 s after its first output, or its stamps
-        going back (a looped bag), or the timeout."""
-        end = time.time() + rospy.get_param("~timeout", 180.0)
+        """Until the bag ended: the tracker silent for 5 s (x slowdown) after its first output, or
+        its stamps going back (a looped bag), or the timeout."""
+        end = time.time() + rospy.get_param("~timeout", 180.0) * self.slowdown
         last_count, last_change = 0, time.time()
         while time.time() < end and not rospy.is_shutdown():
             if len(self.frames) != last_count:
                 last_count, last_change = len(self.frames), time.time()
                 if last_count > 1 and self.frames[-1].header.stamp < self.frames[-2].header.stamp:
                     return
-            elif last_count > 0 and time.time() - last_change > 5.0:
+            elif last_count > 0 and time.time() - last_change > 5.0 * self.slowdown:
                 return
             time.sleep(0.1)
 
