@@ -3,7 +3,8 @@
 // class), keypoint error of matched detections (px, over keypoints labelled inside the image), PnP
 // initial pose error (translation mm, rotation degrees symmetry-aware, ADD-S mm; the rotation also
 // up to a half turn of the box, what cuboid labels can tell), the share of labelled objects whose
-// PnP pose is within 3 cm and 15 degrees, and inference time per frame (median, ms). The model's
+// PnP pose is within 3 cm and 15 degrees, and inference time per frame (median, ms). A set with
+// depth images (depth/) gives the detector the depth, as the nodes do. The model's
 // own per-class score_thresholds are ignored here: per class it reports precision / recall at score
 // thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F-beta (F1 unless
 // --threshold-beta; 2 weighs recall twice, for a tracker that checks each hypothesis against the
@@ -126,6 +127,25 @@ std::vector<TruthObject> readTruth(const fs::path& dir, const std::string& name,
   return out;
 }
 
+// depth/NAME.png (16-bit mm) as the camera's range measurements, or null when the set has none.
+std::unique_ptr<RangeMeasurements> readDepth(const fs::path& dir, const std::string& name,
+                                             const PinholeModel& camera) {
+  const fs::path path = dir / "depth" / (name + ".png");
+  if (!fs::exists(path)) return nullptr;
+  const cv::Mat mm = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  if (mm.type() != CV_16UC1 || mm.cols != camera.width || mm.rows != camera.height)
+    throw std::runtime_error(path.string() + ": not a 16-bit depth image of the camera's size");
+  std::vector<float> m;
+  m.reserve(mm.total());
+  for (int r = 0; r < mm.rows; ++r)
+    for (int c = 0; c < mm.cols; ++c) {
+      const std::uint16_t v = mm.at<std::uint16_t>(r, c);
+      m.push_back(v ? v * 0.001f : NAN);
+    }
+  return std::make_unique<RangeMeasurements>(fromDepthImage(
+      camera, std::make_shared<SensorRays>(makeRays(camera)), m, Eigen::Isometry3d::Identity()));
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -211,6 +231,7 @@ int main(int argc, char** argv) {
     fs::create_directories(args.output);
 
     std::map<std::string, ClassStats> per;
+    std::size_t frames_with_depth = 0;
     std::vector<double> infer_ms;
     ProgressBar progress("evaluate_detector", names.size());
     for (std::size_t i = 0; i < names.size(); ++i) {
@@ -222,7 +243,9 @@ int main(int argc, char** argv) {
       cv::Mat rgb;
       cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
       const auto t0 = std::chrono::steady_clock::now();
-      const auto dets = detector.detect(rgb, camera);
+      const auto depth = readDepth(args.dataset, names[i], camera);
+      frames_with_depth += depth != nullptr;
+      const auto dets = detector.detect(rgb, camera, depth.get());
       infer_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       for (const auto& t : truth) ++per[t.class_name].truths;
@@ -316,6 +339,7 @@ int main(int argc, char** argv) {
     for (const auto& [c, s] : per) curves[c] = scoreCurve(s);
     std::ostringstream j;
     j << "{\n  \"frames\": " << names.size() << ",\n  \"model\": \"" << args.model << "\",\n"
+      << "  \"frames_with_depth\": " << frames_with_depth << ",\n"
       << "  \"inference_ms_median\": " << num(median(infer_ms))
       << ",\n  \"threshold_beta\": " << num(args.threshold_beta) << ",\n  \"all\": {\n"
       << stats_json(all, "    ") << "\n  },\n  \"per_class\": {";

@@ -1,12 +1,14 @@
 // Writes a recorded RGB-D sequence (layout: evaluation/rgbd_sequence.hpp, e.g.
 // ../shared/data/real/visp_rbt) as a keypoint data set (evaluation/keypoint_dataset.hpp), labelled
 // from the sequence's given object poses, so that evaluate_detector scores a detector on real
-// images: detection rate, keypoint error and PnP pose error against the given poses.
+// images: detection rate, keypoint error and PnP pose error against the given poses. The depth goes
+// along (depth/, millimetres), so that the PnP poses take their distance from it as in the nodes.
 //
 //   rosrun scene_graph_tracker sequence_to_dataset --sequence DIR --catalog FILE --output OUT
 //       [--mesh-dir D] [--labels object|cuboid]
 //
 // Class ids and boxes: SequenceLabeller (evaluation/keypoint_dataset.hpp).
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
@@ -42,6 +44,18 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
+// The frame's depth as 16-bit millimetres, 0 where there is no return.
+cv::Mat depthMillimetres(const sgt::RgbdSequence& s, const sgt::RgbdSequence::Frame& f) {
+  const std::vector<float> m = sgt::loadSequenceDepth(s, f);
+  cv::Mat mm(s.camera.height, s.camera.width, CV_16UC1, cv::Scalar(0));
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (std::isfinite(m[i]) && m[i] > 0.0f && m[i] < 65.0f)
+      mm.at<std::uint16_t>(static_cast<int>(i / s.camera.width),
+                           static_cast<int>(i % s.camera.width)) =
+          static_cast<std::uint16_t>(std::lround(m[i] * 1000.0f));
+  return mm;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -50,14 +64,17 @@ int main(int argc, char** argv) {
     const sgt::RgbdSequence sequence = sgt::loadRgbdSequence(args.sequence);
     const sgt::ObjectCatalog catalog = sgt::loadObjectCatalog(args.catalog, args.mesh_dir);
     const fs::path dir = fs::absolute(args.output);
-    for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
+    for (const char* sub : {"images", "labels", "poses", "depth"})
+      fs::create_directories(dir / sub);
     sgt::SequenceLabeller labeller(catalog, sequence, args.labels == "cuboid");
     sgt::ProgressBar bar("sequence_to_dataset", sequence.frames.size());
     for (std::size_t i = 0; i < sequence.frames.size(); ++i) {
       const auto& f = sequence.frames[i];
       cv::Mat bgr;
       cv::cvtColor(sgt::loadSequenceRgb(sequence, f), bgr, cv::COLOR_RGB2BGR);
-      cv::imwrite((dir / "images" / (sgt::datasetFrameName(i) + ".png")).string(), bgr);
+      const std::string name = sgt::datasetFrameName(i) + ".png";
+      cv::imwrite((dir / "images" / name).string(), bgr);
+      cv::imwrite((dir / "depth" / name).string(), depthMillimetres(sequence, f));
       sgt::writeDatasetLabels(dir, i, "real", sequence.camera, labeller.label(f));
       bar.update(i + 1);
     }

@@ -6,6 +6,9 @@
 //                           (x, y, visibility 2 inside the image, 0 0 0 outside)
 //   DIR/poses/000123.json   scene kind, camera K and per labelled object its class,
 //                           T_camera_object and the label pose the keypoints were made from
+//   DIR/depth/000123.png    optional: 16-bit depth in millimetres registered with the image
+//                           (0 = no return); with it evaluate_detector gives the detector the depth
+//                           as the nodes do (the PnP poses take their distance from it)
 //   DIR/dataset.yaml        ultralytics style; `names` are the classes by label id
 #pragma once
 
