@@ -93,7 +93,9 @@ class TiagoBag {
         mapOdom(t.header.stamp);
       }
     }
-    out_.write(m.getTopic(), m.getTime(), *msg);
+    // With the recorded connection header: /tf_static stays latched, as a robot's is, so that a
+    // node that subscribes after the bag started still gets the sensors' transforms.
+    out_.write(m.getTopic(), m.getTime(), *msg, m.getConnectionHeader());
   }
   void basePose(const rosbag::MessageInstance& m) {
     const auto p = m.instantiate<geometry_msgs::PoseStamped>();
