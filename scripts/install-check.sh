@@ -67,9 +67,31 @@ stage_rostest() {
   cp "$build/devel/lib/$pkg/rostest_tracker" "$prefix/lib/$pkg/"
   sed "s|$build/test_maps|$tmp/maps|g" "$build/test/ros/tracker.test" > "$prefix/share/$pkg/test/tracker.test"
   if [ -n "${SGT_SANITIZER_RUNTIME:-}" ]; then
-    mkdir -p "$prefix/lib/nodelet"
+    mkdir -p "$prefix/lib/nodelet" "$tmp/sanitizers" "$tmp/sanitizer_logs"
     cp "$root/test/sanitizers/nodelet" "$prefix/lib/nodelet/nodelet"
+    cp "$root"/test/sanitizers/*.supp "$tmp/sanitizers/"
   fi
+}
+
+# A sanitizer option string with its paths moved out of the hidden source tree: suppressions from
+# TMP's copies, reports into TMP (collect_sanitizer_logs brings them back). A sanitizer that cannot
+# read its suppressions or open its log stops the process at start.
+relocated() {
+  local v="${1//$root\/test\/sanitizers/$tmp/sanitizers}"
+  echo "${v//$build\/sanitizer/$tmp/sanitizer_logs}"
+}
+
+# The reports of the install-space run go where the build's other reports are, so that
+# test_summary.py counts them like any other.
+collect_sanitizer_logs() {
+  [ -n "${SGT_SANITIZER_RUNTIME:-}" ] || return 0
+  local f
+  for f in "$tmp"/sanitizer_logs/*; do
+    [ -e "$f" ] || continue
+    mkdir -p "$build/sanitizer"
+    cp "$f" "$build/sanitizer/install-check.$(basename "$f")"
+    fail "sanitizer report from the install-space run: $build/sanitizer/install-check.$(basename "$f")"
+  done
 }
 
 run_rostest() {
@@ -88,13 +110,16 @@ run_rostest() {
     ROS_PACKAGE_PATH="$prefix/share:/usr/share" CMAKE_PREFIX_PATH="$prefix:/usr" \
     LD_LIBRARY_PATH="$prefix/lib" PYTHONPATH="$prefix/lib/python3/dist-packages" \
     ROS_DISTRO="${ROS_DISTRO:-Debian}" ${SGT_SANITIZER_RUNTIME:+SGT_SANITIZER_RUNTIME=$SGT_SANITIZER_RUNTIME} \
-    ${ASAN_OPTIONS:+ASAN_OPTIONS=$ASAN_OPTIONS} ${UBSAN_OPTIONS:+UBSAN_OPTIONS=$UBSAN_OPTIONS} \
-    ${LSAN_OPTIONS:+LSAN_OPTIONS=$LSAN_OPTIONS} ${TSAN_OPTIONS:+TSAN_OPTIONS=$TSAN_OPTIONS} \
+    ${ASAN_OPTIONS:+ASAN_OPTIONS=$(relocated "$ASAN_OPTIONS")} \
+    ${UBSAN_OPTIONS:+UBSAN_OPTIONS=$(relocated "$UBSAN_OPTIONS")} \
+    ${LSAN_OPTIONS:+LSAN_OPTIONS=$(relocated "$LSAN_OPTIONS")} \
+    ${TSAN_OPTIONS:+TSAN_OPTIONS=$(relocated "$TSAN_OPTIONS")} \
     $hide /bin/sh -c "$run" > "$tmp/rostest.log" 2>&1
   local status=$?
   tail -5 "$tmp/rostest.log"
   [ $status -eq 0 ] || fail "the tracker rostest from the install space failed (exit $status):"$'\n'"$(tail -12 "$tmp/rostest.log")"
   check_gtest_results "$tmp/home/.ros/test_results/$pkg"
+  collect_sanitizer_logs
 }
 
 # rostest's exit status alone does not prove that the gtest program ran: its own result file must
