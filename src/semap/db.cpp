@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
+#include <mutex>
 #include <pqxx/pqxx>
 #include <sstream>
 #include <stdexcept>
@@ -11,6 +12,15 @@
 
 namespace sgt::semap {
 namespace {
+
+// Connections are opened one at a time in a process. libpqxx 6.4 (not built with ThreadSanitizer)
+// shares state between connection set-ups: make test-tsan reported the bridge's writer thread and
+// a service call opening theirs at once. Opening is rare (start-up, reconnects), so this costs
+// nothing that matters.
+std::mutex& connectMutex() {
+  static std::mutex m;
+  return m;
+}
 
 std::string quoted(const std::string& v) {
   std::string out = "'";
@@ -130,6 +140,7 @@ struct SemapDb::Impl {
 
 SemapDb::SemapDb(DbSettings settings) : settings_(std::move(settings)) {
   if (settings_.sql_dir.empty()) settings_.sql_dir = packageFile("sql");
+  const std::lock_guard<std::mutex> lock(connectMutex());
   impl_ = std::make_unique<Impl>(settings_.connectionString());
   if (settings_.statement_timeout_s > 0)
     impl_->conn.set_variable(
