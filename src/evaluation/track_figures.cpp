@@ -85,7 +85,7 @@ std::string TrackFigures::csvRows() const {
   for (const TrackSample& s : samples_)
     o << "track," << s.stamp << "," << s.id << "," << s.class_name << ",,,,,,,,,,,," << s.id << ","
       << (s.depth_residual_m ? jsonNumber(*s.depth_residual_m * 1000) : "") << ",," << s.inliers
-      << "," << jsonNumber(s.inlier_ratio) << "," << (s.confirmed ? 1 : 0) << "\n";
+      << "," << jsonNumber(s.inlier_ratio) << "," << (s.confirmed ? 1 : 0) << ",\n";
   return o.str();
 }
 

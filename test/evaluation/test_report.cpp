@@ -63,6 +63,9 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
       << "recall with 3 digits (the goal is 0.99)\n"
       << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
+  EXPECT_TRUE(has(r.timeseriesCsv(), "object,4,klt_1,klt,,,,,,,,,,,,,,,,,,0\n"))
+      << "out of view, in the last column\n"
+      << r.timeseriesCsv();
 }
 
 TEST(EvaluationReport, FalsePositivesCountTrackFramesTracksAndClasses) {
@@ -126,7 +129,7 @@ TEST(EvaluationReport, DepthResidualsAreMediansOverFramesPerObjectAndOverall) {
   EXPECT_TRUE(has(j, "\"gt_depth_residual_median_mm\": 6\n")) << j;  // the cube: 5, 7
   EXPECT_TRUE(has(j, "\"depth_residual_median_mm\": null")) << j;    // the dragon
   EXPECT_TRUE(has(r.markdown(), "| cube | 3 | 6 | 2 |")) << r.markdown();
-  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5,,,\n")) << r.timeseriesCsv();
+  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5,,,,1\n")) << r.timeseriesCsv();
   EvaluationReport none;
   none.addObject(0, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
   EXPECT_FALSE(has(none.json(), "depth_residual")) << "reports without fits keep their keys";
@@ -166,7 +169,7 @@ TEST(EvaluationReport, TrackFiguresNeedNoGroundTruth) {
     tracks += line.rfind("track,", 0) == 0;
   }
   EXPECT_EQ(tracks, 4);
-  EXPECT_TRUE(has(r.timeseriesCsv(), "track,1,klt_1,klt,,,,,,,,,,,,klt_1,4,,300,0.7,1\n"))
+  EXPECT_TRUE(has(r.timeseriesCsv(), "track,1,klt_1,klt,,,,,,,,,,,,klt_1,4,,300,0.7,1,\n"))
       << r.timeseriesCsv();
 }
 
