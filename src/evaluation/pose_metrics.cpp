@@ -92,6 +92,7 @@ PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector
   // Without declared symmetries, sampled() is the identity alone and `add` is the plain ADD.
   e.add_or_adds = object.symmetry.any() ? e.add_s : e.add;
   e.correct_add_or_adds = e.add_or_adds < 0.1 * object.diameter;
+  e.displaced = e.translation >= 0.1 * object.diameter;
   return e;
 }
 

@@ -30,6 +30,7 @@ struct ObjectStats {
   std::vector<double> add_s, add, t, r, add_or_adds;
   std::vector<double> depth_mm, gt_depth_mm;  // surface fits, where measured
   std::size_t evaluated = 0, correct = 0, missed = 0, out_of_view = 0, correct_add_or_adds = 0;
+  std::size_t displaced = 0, turned = 0;  // wrong ADD(-S): a wrong place, or a wrong turn only
   void add_row(const std::optional<PoseErrors>& e, bool in_view) {
     if (!in_view) {
       ++out_of_view;
@@ -44,6 +45,7 @@ struct ObjectStats {
     t.push_back(e->translation * 1000), r.push_back(e->rotation_deg);
     add_or_adds.push_back(e->add_or_adds * 1000);
     correct += e->correct, correct_add_or_adds += e->correct_add_or_adds;
+    if (!e->correct_add_or_adds) ++(e->displaced ? displaced : turned);
   }
   void addFit(const std::optional<double>& tracked_m, const std::optional<double>& given_m) {
     if (tracked_m) depth_mm.push_back(*tracked_m * 1000);
@@ -58,6 +60,8 @@ struct ObjectStats {
     o << indent << "\"evaluated\": " << evaluated << ",\n"
       << indent << "\"missed\": " << missed << ",\n"
       << indent << "\"out_of_view\": " << out_of_view << ",\n"
+      << indent << "\"displaced\": " << displaced << ",\n"
+      << indent << "\"turned\": " << turned << ",\n"
       << indent << "\"add_s_mean_mm\": " << jsonNumber(mean(add_s)) << ",\n"
       << indent << "\"add_mean_mm\": " << jsonNumber(mean(add)) << ",\n"
       << indent << "\"recall_adds_10\": " << jsonNumber(recall()) << ",\n"

@@ -56,6 +56,11 @@ TEST(PoseMetrics, DiscreteSymmetryAwareErrors) {
   EXPECT_NEAR(p.add_s, 0.0, 0.06);      // the half-turned set still covers itself ...
   EXPECT_TRUE(p.correct);               // ... so ADD-S forgives the turn,
   EXPECT_FALSE(p.correct_add_or_adds);  // ADD does not
+  EXPECT_FALSE(p.displaced);            // in its place: a wrong turn
+  ObjectClass small = plain;
+  small.diameter = 0.5;  // the 5 cm shift is 10 % of its diameter: a wrong place
+  EXPECT_TRUE(poseErrors(small, kCross, rotZ(183, {0, 0, 0.05}), rotZ(0)).displaced);
+  EXPECT_FALSE(poseErrors(small, kCross, rotZ(183, {0, 0, 0.049}), rotZ(0)).displaced);
 }
 
 TEST(PoseMetrics, SparseSamplesOfASymmetricObjectDoNotInflateAddS) {

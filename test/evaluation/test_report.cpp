@@ -33,7 +33,9 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   r.addObject(0, "klt_1", "klt", "klt_1", errors(0.002, 0.003, true));
   r.addObject(1, "klt_1", "klt", "klt_1", errors(0.004, 0.005, true));
   r.addObject(2, "klt_1", "klt", "", std::nullopt);  // missed: counts against recall
-  r.addObject(3, "klt_1", "klt", "klt_2", errors(0.030, 0.040, false));  // another track: a switch
+  PoseErrors far = errors(0.030, 0.040, false);
+  far.displaced = true;
+  r.addObject(3, "klt_1", "klt", "klt_2", far);             // another track: a switch
   r.addObject(4, "klt_1", "klt", "", std::nullopt, false);  // out of the camera's view: not scored
   r.addObject(5, "klt_1", "klt", "klt_3", errors(0.5, 0.5, false), false);  // nor a switch
   UnknownLabelCounts c;
@@ -47,6 +49,8 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EXPECT_TRUE(has(j, "\"add_or_adds_mean_mm\": 16")) << j;      // ADD: no declared symmetry
   EXPECT_TRUE(has(j, "\"recall_add_or_adds_10\": 0.25")) << j;  // 1 correct of 4 evaluated
   EXPECT_TRUE(has(j, "\"missed\": 1"));
+  EXPECT_TRUE(has(j, "\"displaced\": 1,")) << j;  // frame 3: in the wrong place
+  EXPECT_TRUE(has(j, "\"turned\": 1,")) << j;     // frame 1: in place, ADD too large
   EXPECT_TRUE(has(j, "\"out_of_view\": 2"));
   EXPECT_TRUE(has(j, "\"identity_switches\": 1"));
   EXPECT_TRUE(has(j, "\"translation_error_mean_mm\": 4"));  // localization: 4 mm every frame

@@ -96,13 +96,18 @@ TEST(SemapOutage, FullQueueDropsTheOldestAndKeepsTheNewest) {
   ASSERT_TRUE(writer.waitIdle(10.0));
   pg.stop();
   for (int i = 1; i <= 50; ++i) writer.push(frame(i));
-  EXPECT_EQ(writer.stats().dropped, 30u);
-  EXPECT_EQ(writer.stats().pending, 20u);
+  // The newest 20 stay queued. Frame 1 stays too when the writer was in the middle of trying it
+  // as the queue filled (a frame being written is never dropped): that depends on the timing.
+  const semap::WriterStats down = writer.stats();
+  const bool in_flight_kept = down.pending == 21u;
+  EXPECT_TRUE(down.pending == 20u || in_flight_kept) << down.pending;
+  EXPECT_EQ(down.dropped + down.pending, 50u);
   pg.start();
   ASSERT_TRUE(writer.waitIdle(20.0));
-  EXPECT_EQ(writer.stats().written, 21u);
+  EXPECT_EQ(writer.stats().written, 1u + down.pending);
   semap::SemapDb db(pg.settings());
   std::vector<double> expected = {frame(0).stamp};
+  if (in_flight_kept) expected.push_back(frame(1).stamp);
   for (int i = 31; i <= 50; ++i) expected.push_back(frame(i).stamp);
   const auto stamps = arrivedStamps(db, "box_1");
   ASSERT_EQ(stamps.size(), expected.size());

@@ -55,6 +55,9 @@ struct PoseErrors {
   // wrong), ADD-S for one with them (BOP, PoseCNN); and whether it is below 10 % of the diameter.
   double add_or_adds = 0.0;
   bool correct_add_or_adds = false;
+  // Where the estimate is, alone, 10 % of the diameter or more from the object: a wrong
+  // ADD(-S) is then a wrong place, else a wrong turn.
+  bool displaced = false;
 };
 
 // Everything for one estimate of an object of class `object` (its mesh sampled with
