@@ -84,5 +84,61 @@ TEST(PoseFilter, MahalanobisDistanceGates) {
   EXPECT_GT(f.distance2(far, C), 100.0);
 }
 
+// Information (sum of J J^T, as the refiner sums it) of point-to-plane terms at `points` with
+// `normal`, about `centre`.
+PoseFilter::Mat6 planeInformation(const std::vector<Eigen::Vector3d>& points,
+                                  const Eigen::Vector3d& normal, const Eigen::Vector3d& centre) {
+  PoseFilter::Mat6 H = PoseFilter::Mat6::Zero();
+  for (const Eigen::Vector3d& p : points) {
+    Eigen::Matrix<double, 6, 1> J;
+    J << normal, (p - centre).cross(normal);
+    H += J * J.transpose();
+  }
+  return H;
+}
+
+// (2 half + 1)^2 points `spacing` apart on the top face of a 6 cm box centred at the origin: what
+// a fit from above sees.
+std::vector<Eigen::Vector3d> topFace(int half = 2, double spacing = 0.012) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = -half; i <= half; ++i)
+    for (int j = -half; j <= half; ++j) points.emplace_back(spacing * i, spacing * j, 0.03);
+  return points;
+}
+
+TEST(FitCovariance, ATopFaceLeavesItsOwnPlaneFree) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const PoseFilter::Mat6 H = planeInformation(topFace(), up, Eigen::Vector3d::Zero());
+  const PoseFilter::Mat6 C = fitCovariance(H, 0.002);
+  const Eigen::Matrix<double, 6, 1> sigma = C.diagonal().cwiseSqrt();
+  EXPECT_LT(sigma(2), 0.001);                       // height: 25 points of 2 mm
+  EXPECT_LT(sigma.segment<2>(3).maxCoeff(), 0.05);  // tilt about x and y: the face's spread
+  EXPECT_GT(sigma.head<2>().minCoeff(), 0.5);       // sliding in the plane: nothing sees it
+  EXPECT_GT(sigma(5), 0.5);                         // turning about the normal: nor that
+  const PoseFilter::Mat6 refined = diagonalCovariance(0.002, 0.01);
+  EXPECT_TRUE(looserThan(C, refined));
+  // A symmetry about the normal: the turn about it is no longer asked of the fit.
+  const PoseFilter::Mat6 Cs = fitCovariance(H, 0.002, {up});
+  EXPECT_LT(std::sqrt(Cs(5, 5)), sigma.segment<2>(3).minCoeff());  // as sure as the tilts
+  EXPECT_GT(std::sqrt(Cs(0, 0)), 0.5);
+}
+
+TEST(FitCovariance, AllSixFacesPinThePoseDown) {
+  PoseFilter::Mat6 H = PoseFilter::Mat6::Zero();
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign : {-1, 1}) {
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // takes z onto this face's normal
+      if (axis == 0) R = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      if (axis == 1) R = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+      std::vector<Eigen::Vector3d> face;
+      for (const Eigen::Vector3d& p : topFace(5, 0.005)) face.push_back(sign * (R * p));
+      H += planeInformation(face, sign * (R * Eigen::Vector3d::UnitZ()), Eigen::Vector3d::Zero());
+    }
+  const PoseFilter::Mat6 C = fitCovariance(H, 0.002);
+  EXPECT_LT(C.diagonal().head<3>().cwiseSqrt().maxCoeff(), 0.001);
+  EXPECT_LT(C.diagonal().tail<3>().cwiseSqrt().maxCoeff(), 0.01);
+  EXPECT_FALSE(looserThan(C, diagonalCovariance(0.002, 0.01)));
+}
+
 }  // namespace
 }  // namespace sgt

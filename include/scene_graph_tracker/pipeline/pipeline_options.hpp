@@ -77,6 +77,11 @@ struct PipelineOptions {
   // filter does not follow the scatter of far fits (and its velocity does not carry a hidden
   // track away).
   double far_fit_from_m = 1.0;
+  // Noise of one depth point along the surface normal. A fit's covariance grows, beyond
+  // refined_sigma, in the directions its rays leave unconstrained (fitCovariance), and such a fit
+  // reports the filtered pose: a box seen only from above keeps its predicted place and turn in
+  // the top plane instead of the fit's drift along it. 0: off.
+  double fit_point_sigma_m = 0.0;
   // Evidence of absence needs most of a confirmed object in view: when other tracked objects
   // cover more than this fraction of the rays that would reach it without them, the few rays
   // left (which graze the occluder and miss a track only a little off) are no evidence and the

@@ -69,6 +69,11 @@ struct ObjectQuality {
   double rmse = 0.0;  // of the inliers' point-to-point residuals (m)
   AlignmentStatus last_alignment = AlignmentStatus::kOk;
   RefineStatus status = RefineStatus::kNotVisible;
+  // What the last round's pairs constrain: the sum of J J^T of their point-to-plane residuals for
+  // a pose change [translation, rotation about the object's origin] in the world frame, per unit
+  // noise. Its small eigenvalues are the directions the fit leaves free (a box seen only from
+  // above slides and turns in its top plane unseen).
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 struct RefineTarget {

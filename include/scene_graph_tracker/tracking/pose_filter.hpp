@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 
@@ -61,6 +62,18 @@ class PoseFilter {
 // Covariance of a pose measurement with independent noise: sigma_m (m) on each translation
 // axis, sigma_rad on each rotation axis ([t, R] order).
 PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad);
+
+// Covariance of a fitted pose ([translation, rotation] in the world frame) from the information
+// of its point-to-plane terms (sum of J J^T, ObjectQuality::information) and the noise of one
+// point along its normal: small where many rays pin the pose down, large in the directions they
+// leave free (at most about 1 m and 1 rad, where no ray constrains it). Rotations about
+// `free_axes` (world, unit: continuous symmetry axes) are not the fit's to find and add nothing.
+PoseFilter::Mat6 fitCovariance(const PoseFilter::Mat6& information, double point_sigma_m,
+                               const std::vector<Eigen::Vector3d>& free_axes = {});
+
+// Whether `C` is less certain than `reference` in some direction: the largest eigenvalue of
+// reference^-1/2 C reference^-1/2 (reference diagonal) exceeds 1.
+bool looserThan(const PoseFilter::Mat6& C, const PoseFilter::Mat6& reference);
 
 // Rotation vector of R (log map) and its inverse.
 Eigen::Vector3d logSO3(const Eigen::Matrix3d& R);

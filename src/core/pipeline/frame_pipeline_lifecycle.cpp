@@ -24,6 +24,17 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   return o;
 }
 
+namespace {
+
+// The continuous symmetry axes of an object at `T` (world frame).
+std::vector<Eigen::Vector3d> symmetryAxes(const Symmetry& s, const Eigen::Isometry3d& T) {
+  std::vector<Eigen::Vector3d> axes;
+  for (const ContinuousSymmetry& c : s.continuous) axes.push_back(T.linear() * c.axis.normalized());
+  return axes;
+}
+
+}  // namespace
+
 bool FramePipeline::unsupported(const Track& t) const {
   return FitSupport::unsupported(isChild(t.out.node), t.life.fit_support, lifecycleOptions());
 }
@@ -84,9 +95,17 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
       // the filtered pose rather than that fit. Not for a child: its filter does not follow its
       // parent's motion.
       const double weak = e.child ? 1.0 : fitWeakness(o, sets);
-      const auto C = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
-      t.filter.update(fit.T_world_object, C * weak, symmetry);
-      o.T_map_object = weak > 1.0 ? t.filter.pose() : fit.T_world_object;
+      const auto C0 = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
+      PoseFilter::Mat6 C = C0 * weak;
+      bool loose = false;
+      if (options_.fit_point_sigma_m > 0.0 && !e.child) {
+        const auto C_rays = fitCovariance(fit.quality.information, options_.fit_point_sigma_m,
+                                          symmetryAxes(*symmetry, fit.T_world_object));
+        C += C_rays;
+        loose = looserThan(C_rays, C0);
+      }
+      t.filter.update(fit.T_world_object, C, symmetry);
+      o.T_map_object = weak > 1.0 || loose ? t.filter.pose() : fit.T_world_object;
       o.last_refined = stamp;
       break;
     }

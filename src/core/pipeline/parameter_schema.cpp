@@ -261,6 +261,9 @@ Schema<T> filterParams() {
       number<T>("far_fit_from_m", kFilter, PIPE(far_fit_from_m), 0.0, 100.0, "m", kRuntime,
                 "fits of objects farther from the sensor count as weaker, covariance x (range / "
                 "this)^4 (0: off)"),
+      number<T>("fit_point_sigma_m", kFilter, PIPE(fit_point_sigma_m), 0.0, 1.0, "m", kRuntime,
+                "noise of one depth point along its normal: a fit is weaker in the directions its "
+                "rays leave unconstrained (0: off)"),
   };
 }
 

@@ -182,12 +182,17 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     e.T_world_object = extents[k].T_world_object;
     ObjectQuality& q = e.quality;
     double sq = 0.0;
+    const Eigen::Vector3d centre = e.T_world_object.translation();
     for (std::size_t s = 0; s < measurements.size(); ++s)
       for (const RayPair& p : last_pairs[s][k]) {
         const double r = (p.model - p.measured).norm();  // within the last round's threshold
         ++q.inliers;
         sq += r * r;
         result.assignment[s][p.ray] = targets[k].node;
+        const Eigen::Vector3d n = p.normal.cast<double>();
+        Eigen::Matrix<double, 6, 1> J;
+        J << n, (p.model.cast<double>() - centre).cross(n);
+        q.information.noalias() += J * J.transpose();
       }
     q.expected = expected[k];
     q.inlier_ratio =

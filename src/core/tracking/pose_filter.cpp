@@ -1,5 +1,6 @@
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
@@ -119,6 +120,26 @@ PoseFilter::Mat6 diagonalCovariance(double sigma_m, double sigma_rad) {
   C.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m),
       Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
   return C;
+}
+
+PoseFilter::Mat6 fitCovariance(const PoseFilter::Mat6& information, double point_sigma_m,
+                               const std::vector<Eigen::Vector3d>& free_axes) {
+  // A unit prior (1 m, 1 rad) keeps unconstrained directions finite.
+  PoseFilter::Mat6 I = information / (point_sigma_m * point_sigma_m);
+  I += PoseFilter::Mat6::Identity();
+  // A symmetry axis: the rotation about it is as certain as any, since no turn about it matters.
+  const double known = I.bottomRightCorner<3, 3>().trace() + 1.0;
+  for (const Eigen::Vector3d& a : free_axes)
+    I.bottomRightCorner<3, 3>() += known * a * a.transpose();
+  return I.ldlt().solve(PoseFilter::Mat6::Identity());
+}
+
+bool looserThan(const PoseFilter::Mat6& C, const PoseFilter::Mat6& reference) {
+  const Eigen::Matrix<double, 6, 1> s = reference.diagonal().cwiseSqrt().cwiseInverse();
+  const PoseFilter::Mat6 scaled = s.asDiagonal() * C * s.asDiagonal();
+  return Eigen::SelfAdjointEigenSolver<PoseFilter::Mat6>(scaled, Eigen::EigenvaluesOnly)
+             .eigenvalues()
+             .maxCoeff() > 1.0;
 }
 
 }  // namespace sgt
