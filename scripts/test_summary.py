@@ -7,9 +7,14 @@ last line `N passed, N failed` (plus `, N skipped` when some were skipped). Exit
 any case failed, when catkin_test_results disagrees, or when there are no results at all.
 --sanitizer-logs (make test-asan, make test-tsan): the directory the sanitized processes write
 their reports to (log_path); one more case, "sanitizer reports", fails when it holds any file
-(the first lines of each are printed), even when every test passed.
+(the first lines of each are printed), even when every test passed. A file that holds only
+LeakSanitizer's own crash at a process's exit (see tool_failure) is printed as a sanitizer tool
+failure and counted on the last line, not as a report.
+
+  test_summary.py --tool-failure FILE   exit status 0 when FILE is such a tool failure
 """
 import os
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -35,6 +40,19 @@ def cases(path):
             yield (name, "", "passed")
 
 
+# What a sanitizer writes when it found a defect.
+DEFECT = re.compile(r"ERROR: (AddressSanitizer|LeakSanitizer: detected)|runtime error:|"
+                    r"WARNING: ThreadSanitizer|SUMMARY: (Address|Leak|Thread|UndefinedBehavior)")
+
+
+def tool_failure(text):
+    """Whether a sanitizer log holds only LeakSanitizer's stop-the-world tracer crashing at exit
+    ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error"): an intermittent
+    failure of the runtime itself (google/sanitizers#1353), after which that process's leaks
+    were not checked. It is no finding about the code, and is shown as what it is."""
+    return "LeakSanitizer has encountered a fatal error" in text and not DEFECT.search(text)
+
+
 def sanitizer_reports(directory, lines=40):
     """(path, first lines) of each sanitizer report file in directory."""
     reports = []
@@ -45,12 +63,15 @@ def sanitizer_reports(directory, lines=40):
         with open(path, errors="replace") as fh:
             head = fh.readlines()
         text = "".join(head[:lines]) + ("    ... (%d lines)\n" % len(head) if len(head) > lines else "")
-        reports.append((path, text))
+        reports.append((path, text, tool_failure("".join(head))))
     return reports
 
 
 def main():
     args = sys.argv[1:]
+    if args[:1] == ["--tool-failure"]:
+        with open(args[1], errors="replace") as fh:
+            return 0 if tool_failure(fh.read()) else 1
     sanitizer_logs = None
     if "--sanitizer-logs" in args:
         i = args.index("--sanitizer-logs")
@@ -67,7 +88,9 @@ def main():
                     counts[status] += 1
                     if status == "failed":
                         failures.append((name, msg))
-    reports = sanitizer_reports(sanitizer_logs) if sanitizer_logs else []
+    logs = sanitizer_reports(sanitizer_logs) if sanitizer_logs else []
+    reports = [(path, text) for path, text, tool in logs if not tool]
+    tool_failures = [(path, text) for path, text, tool in logs if tool]
     gate = subprocess.run(["catkin_test_results", results], capture_output=True, text=True)
     for name, msg in failures:
         print("FAILED %s\n    %s" % (name, msg.replace("\n", "\n    ")[:2000]))
@@ -79,6 +102,9 @@ def main():
             print("SANITIZER REPORT %s\n    %s" % (path, text.rstrip().replace("\n", "\n    ")))
         else:
             print("SANITIZER REPORT %s" % path)
+    for path, text in tool_failures:
+        print("SANITIZER TOOL FAILURE %s (LeakSanitizer crashed at exit: that process's leaks were "
+              "not checked)\n    %s" % (path, text.rstrip().replace("\n", "\n    ")))
     if sum(counts.values()) == 0:
         print("no test results found in %s" % results)
         counts["failed"] += 1
@@ -93,6 +119,8 @@ def main():
     line = "%d passed, %d failed" % (counts["passed"], counts["failed"])
     if counts["skipped"]:
         line += ", %d skipped" % counts["skipped"]
+    if tool_failures:
+        line += ", %d sanitizer tool failure%s" % (len(tool_failures), "s" if len(tool_failures) > 1 else "")
     print(line)
     return 1 if counts["failed"] else 0
 
