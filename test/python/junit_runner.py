@@ -28,10 +28,10 @@ def write_junit(suite_name, result, cases, seconds, path):
 
 def main(suite_name, case_class):
     """Runs case_class's tests; exits 0 when all pass."""
+    xml = argument("xml")  # read before the tests run: a test may patch sys.argv
     cases = list(unittest.defaultTestLoader.loadTestsFromTestCase(case_class))
     start = time.time()
     result = unittest.TextTestRunner(verbosity=2).run(unittest.TestSuite(cases))
-    xml = argument("xml")
     if xml:
         write_junit(suite_name, result, cases, time.time() - start, xml)
     sys.exit(0 if result.wasSuccessful() else 1)

@@ -10,6 +10,7 @@ import os
 import sys
 import tempfile
 import unittest
+from unittest import mock
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'scripts'))
@@ -51,8 +52,8 @@ class TestSummaryTest(unittest.TestCase):
                 with open(os.path.join(sanitizer, 'asan.nodelet.%d' % k), 'w') as f:
                     f.write(text)
             out = io.StringIO()
-            sys.argv = ['test_summary.py', results, '--sanitizer-logs', sanitizer]
-            with contextlib.redirect_stdout(out):
+            argv = ['test_summary.py', results, '--sanitizer-logs', sanitizer]
+            with mock.patch.object(sys, 'argv', argv), contextlib.redirect_stdout(out):
                 status = test_summary.main()
             return status, out.getvalue().strip().splitlines()[-1]
 
