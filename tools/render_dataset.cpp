@@ -67,6 +67,7 @@ struct Args {
   bool cuboid_labels = false;
   double textures = 0.0;        // probability that a surface is patterned
   double camera_effects = 0.0;  // probability that an image gets camera effects
+  bool depth = false;           // also depth/: the registered depth image (noise-free)
 };
 
 struct Rng {
@@ -128,7 +129,8 @@ class DatasetRenderer {
         bench_fraction_(args.bench_fraction),
         cuboid_labels_(args.cuboid_labels),
         textures_(args.textures),
-        camera_effects_(args.camera_effects) {
+        camera_effects_(args.camera_effects),
+        depth_(args.depth) {
     const std::uint32_t seed = seed_;
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2,
@@ -204,6 +206,7 @@ class DatasetRenderer {
   bool bench_ = false;  // the current image is a bench scene
   bool cuboid_labels_;
   double textures_, camera_effects_;
+  bool depth_;
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -512,7 +515,8 @@ void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   // Appearance is drawn from a stream of its own, so that without it the scenes stay as they were.
   Rng looks{std::mt19937(static_cast<std::uint32_t>(seed_ * 31337u + index * 104729u + 11u))};
   if (textures_ > 0.0) randomisePatterns(looks);
-  const sgt::SimulatedScan scan = sgt::simulate(scene_, sgt::makeRays(camera_), T_world_camera);
+  const sgt::SensorRays rays = sgt::makeRays(camera_);
+  const sgt::SimulatedScan scan = sgt::simulate(scene_, rays, T_world_camera);
   const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
   cv::Mat bgr;
   cv::cvtColor(
@@ -521,6 +525,8 @@ void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   if (camera_effects_ > 0.0 && looks.chance(camera_effects_))
     sgt::sim::applyCameraEffects(bgr, drawCameraEffects(looks));
   cv::imwrite((dir / "images" / (sgt::datasetFrameName(index) + ".png")).string(), bgr);
+  if (depth_)
+    sgt::writeDatasetDepth(dir, index, sgt::depthImage(scan, rays), camera_.width, camera_.height);
   writeLabels(index, dir, T_world_camera, scan);
 }
 
@@ -607,6 +613,8 @@ int main(int argc, char** argv) {
       args.textures = std::stod(v);
     else if (a == "--camera-effects")
       args.camera_effects = std::stod(v);
+    else if (a == "--depth")
+      args.depth = v == "1";
     else if (a == "--labels") {
       if (v != "object" && v != "cuboid")
         return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
@@ -635,7 +643,7 @@ int main(int argc, char** argv) {
             << " --max-distance " << args.max_distance << " --bench-fraction "
             << args.bench_fraction << " --labels " << (args.cuboid_labels ? "cuboid" : "object")
             << " --catalog " << args.catalog << " --textures " << args.textures
-            << " --camera-effects " << args.camera_effects;
+            << " --camera-effects " << args.camera_effects << " --depth " << args.depth;
     sgt::writeDatasetYaml(dir, comment.str(), catalog.listed());
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";

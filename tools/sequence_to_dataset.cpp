@@ -44,18 +44,6 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-// The frame's depth as 16-bit millimetres, 0 where there is no return.
-cv::Mat depthMillimetres(const sgt::RgbdSequence& s, const sgt::RgbdSequence::Frame& f) {
-  const std::vector<float> m = sgt::loadSequenceDepth(s, f);
-  cv::Mat mm(s.camera.height, s.camera.width, CV_16UC1, cv::Scalar(0));
-  for (std::size_t i = 0; i < m.size(); ++i)
-    if (std::isfinite(m[i]) && m[i] > 0.0f && m[i] < 65.0f)
-      mm.at<std::uint16_t>(static_cast<int>(i / s.camera.width),
-                           static_cast<int>(i % s.camera.width)) =
-          static_cast<std::uint16_t>(std::lround(m[i] * 1000.0f));
-  return mm;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,7 +62,8 @@ int main(int argc, char** argv) {
       cv::cvtColor(sgt::loadSequenceRgb(sequence, f), bgr, cv::COLOR_RGB2BGR);
       const std::string name = sgt::datasetFrameName(i) + ".png";
       cv::imwrite((dir / "images" / name).string(), bgr);
-      cv::imwrite((dir / "depth" / name).string(), depthMillimetres(sequence, f));
+      sgt::writeDatasetDepth(dir, i, sgt::loadSequenceDepth(sequence, f), sequence.camera.width,
+                             sequence.camera.height);
       sgt::writeDatasetLabels(dir, i, "real", sequence.camera, labeller.label(f));
       bar.update(i + 1);
     }

@@ -1,8 +1,11 @@
 #include "scene_graph_tracker/evaluation/keypoint_dataset.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
@@ -87,6 +90,19 @@ void writeDatasetYaml(const std::filesystem::path& dir, const std::string& comme
   yaml << "# " << comment << "\npath: " << dir.string()
        << "\ntrain: images\nval: images\nkpt_shape: [9, 3]  # DOPE cuboid order\nnames:\n";
   for (std::size_t c = 0; c < names.size(); ++c) yaml << "  " << c << ": " << names[c] << "\n";
+}
+
+void writeDatasetDepth(const std::filesystem::path& dir, std::size_t index,
+                       const std::vector<float>& depth_m, int width, int height) {
+  if (depth_m.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+    throw std::invalid_argument("writeDatasetDepth: the depth image is not width x height");
+  cv::Mat mm(height, width, CV_16UC1, cv::Scalar(0));
+  for (std::size_t i = 0; i < depth_m.size(); ++i)
+    if (std::isfinite(depth_m[i]) && depth_m[i] > 0.0f && depth_m[i] < 65.0f)
+      mm.at<std::uint16_t>(static_cast<int>(i / width), static_cast<int>(i % width)) =
+          static_cast<std::uint16_t>(std::lround(depth_m[i] * 1000.0f));
+  std::filesystem::create_directories(dir / "depth");
+  cv::imwrite((dir / "depth" / (datasetFrameName(index) + ".png")).string(), mm);
 }
 
 SequenceLabeller::SequenceLabeller(const ObjectCatalog& catalog, const RgbdSequence& sequence,

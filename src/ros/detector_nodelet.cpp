@@ -8,7 +8,6 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
-#include "scene_graph_tracker/ros/closest_in_time.hpp"
 #include "scene_graph_tracker/ros/conversions.hpp"
 #include "scene_graph_tracker/ros/diagnostics.hpp"
 #include "scene_graph_tracker/ros/parameters.hpp"
@@ -53,12 +52,19 @@ void DetectorNodelet::onInit() {
                decode.score_threshold, p.inference.backend.c_str(), p.inference.target.c_str());
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
-  depth_max_offset_ = p.depth_max_offset;
+  pairing_ =
+      std::make_unique<DepthPairing>(p.depth_max_offset, p.use_depth ? p.depth_max_wait : 0.0);
   const auto on_error = [this](const std::string& text) { onUndecodable(text); };
   if (p.use_depth) {
     depth_sub_.subscribe(nh, "depth", 3, p.depth_transport, on_error);
     depth_sub_.registerCallback(&DetectorNodelet::onDepth, this);
     NODELET_INFO("detector: depth images: %s", depth_sub_.description().c_str());
+    if (p.depth_max_wait > 0.0)
+      pairing_timer_ = nh.createWallTimer(::ros::WallDuration(p.depth_max_wait / 2),
+                                          [this](const ::ros::WallTimerEvent&) {
+                                            if (auto f = pairing_->expired(::ros::WallTime::now()))
+                                              detect(*f);
+                                          });
   }
   image_sub_.subscribe(nh, "image", 2, p.image_transport, on_error);
   NODELET_INFO("detector: RGB images: %s", image_sub_.description().c_str());
@@ -87,6 +93,7 @@ void DetectorNodelet::publishDiagnostics() {
        {"images_published", c.published},
        {"images_skipped", c.skipped},
        {"depth_unused", c.depth_unused},
+       {"images_waited_for_depth", double(pairing_->waited())},
        {"hypotheses", c.hypotheses},
        // What never reached the detection: superseded in a full input buffer (node behind),
        // lost before the node (header.seq gaps); depth images only with use_depth.
@@ -111,21 +118,16 @@ void DetectorNodelet::onUndecodable(const std::string& text) {
 }
 
 void DetectorNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth) {
-  std::lock_guard<std::mutex> lock(depth_mutex_);
-  pushRecent(depth_images_, depth, 5);
+  if (auto frame = pairing_->addDepth(depth, ::ros::WallTime::now())) detect(*frame);
 }
 
 std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros::Time& stamp,
                                                                     const PinholeModel& camera) {
   if (!depth_sub_.subscribed()) return nullptr;
-  sensor_msgs::ImageConstPtr best;
-  {
-    std::lock_guard<std::mutex> lock(depth_mutex_);
-    best = closestInTime(depth_images_, stamp, depth_max_offset_);
-  }
+  const sensor_msgs::ImageConstPtr best = pairing_->closest(stamp);
   if (!best) {
     char within[32];
-    std::snprintf(within, sizeof within, "%.3g s", depth_max_offset_);
+    std::snprintf(within, sizeof within, "%.3g s", pairing_->maxOffset());
     warn("no depth image on '" + depth_sub_.topic() + "' within " + within +
          " of the RGB image: distances from PnP alone (set use_depth false if there is no "
          "registered depth)");
@@ -145,6 +147,13 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
 
 void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
                               const sensor_msgs::CameraInfoConstPtr& info) {
+  for (const RgbFrame& frame : pairing_->addImage({image, info}, ::ros::WallTime::now()))
+    detect(frame);
+}
+
+void DetectorNodelet::detect(const RgbFrame& frame) {
+  const sensor_msgs::ImageConstPtr& image = frame.image;
+  const sensor_msgs::CameraInfoConstPtr& info = frame.info;
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.images_in;
   std::vector<detection::ObjectDetection> detections;

@@ -88,6 +88,7 @@ TEST(ParameterSchema, DetectorYamlGivesTheStructDefaults) {
   EXPECT_EQ(a.pnp.min_depth, d.pnp.min_depth);
   EXPECT_EQ(a.use_depth, d.use_depth);
   EXPECT_EQ(a.depth_max_offset, d.depth_max_offset);
+  EXPECT_EQ(a.depth_max_wait, d.depth_max_wait);
   EXPECT_EQ(a.model, d.model);
   EXPECT_EQ(a.catalog, d.catalog);
   EXPECT_EQ(a.mesh_dir, d.mesh_dir);

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """render_dataset's bench scenes (--bench-fraction) against its random scenes; the classes come from
 a catalog (--catalog), in its order; appearance randomisation (--textures, --camera-effects) changes
-the pixels only.
+the pixels only; --depth writes the registered depth image.
 
   /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
 
@@ -140,6 +140,28 @@ class BenchScenes(unittest.TestCase):
             changed.append(np.mean(np.abs(a - b).sum(2) > 30))
         self.assertGreater(min(changed), 0.05, changed)  # every image looks different
         self.assertIn("--textures 1 --camera-effects 1", open(os.path.join(out, "dataset.yaml")).read())
+
+    def test_depth_is_registered_with_the_image_and_in_millimetres(self):
+        out = os.path.join(self.tmp.name, "depth")
+        subprocess.run([TOOL, "--output", out, "--count", "12", "--seed", "5", "--bench-fraction", "1",
+                        "--depth", "1"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp.name, "bench", "depth")))  # only on request
+        self.assertEqual(digest(out, "images"), digest(os.path.join(self.tmp.name, "bench"), "images"))
+        from PIL import Image
+        gaps = []  # object centre's z minus the depth at its projection: the surface lies in front of it
+        for path in sorted(glob.glob(os.path.join(out, "poses", "*.json"))):
+            pose = json.load(open(path))
+            depth = np.asarray(Image.open(path.replace("poses", "depth").replace(".json", ".png")))
+            self.assertEqual(depth.shape, (pose["height"], pose["width"]))
+            self.assertGreater(depth.max(), 500)  # millimetres: the bench is metres away
+            K = np.array(pose["K"]).reshape(3, 3)
+            for o in pose["objects"]:
+                t = np.array(o["T_camera_object"])[:3, 3]
+                u, v, _ = K @ (t / t[2])
+                if 0 <= round(u) < pose["width"] and 0 <= round(v) < pose["height"] and o["visible_pixels"] > 300:
+                    gaps.append(t[2] - depth[round(v), round(u)] / 1000.0)
+        self.assertGreater(len(gaps), 10)
+        self.assertTrue(0.0 <= np.median(gaps) < 0.15, np.median(gaps))
 
     def test_a_fraction_outside_zero_to_one_is_refused(self):
         for flag in ("--bench-fraction", "--textures", "--camera-effects"):

@@ -65,22 +65,31 @@ class DetectorNodeTest : public ::testing::Test {
 
   // One image; with `depth` the registered depth image with the same stamp goes out first, and
   // the image once the node has received it (ROS orders no messages across topics; a slow node
-  // may see the image first). Waits for the node's hypotheses of this image.
-  scene_graph_tracker::PoseHypothesisArrayConstPtr sendFrame(bool depth) {
+  // may see the image first); with `depth_late` 30 ms after the image, as a slower depth decoder
+  // delivers it. Waits for the node's hypotheses of this image.
+  scene_graph_tracker::PoseHypothesisArrayConstPtr sendFrame(bool depth, bool depth_late = false) {
     const ::ros::Time stamp = ::ros::Time::now();
     sensor_msgs::CameraInfo info = ros::toCameraInfo(cam_);
     info.header.stamp = stamp, info.header.frame_id = "camera";
+    sensor_msgs::Image d = ros::depthToImage(depth_, cam_.width, cam_.height);
+    d.header = info.header;
     if (depth) {
-      sensor_msgs::Image d = ros::depthToImage(depth_, cam_.width, cam_.height);
-      d.header = info.header;
       const double received = counter("depth_received");
       depth_pub_.publish(d);
       waitForCounter("depth_received", received);
+    }
+    if (depth_late) {  // a live depth stream: the previous depth frame, then the image, then its
+                       // own
+      sensor_msgs::Image previous = d;
+      previous.header.stamp -= ::ros::Duration(0.033);
+      depth_pub_.publish(previous);
+      ::ros::WallDuration(0.3).sleep();
     }
     sensor_msgs::Image img = rgb_;
     img.header = info.header;
     rgb_pub_.publish(img);
     info_pub_.publish(info);
+    if (depth_late) ::ros::WallDuration(0.03).sleep(), depth_pub_.publish(d);
     for (int i = 0; i < 200; ++i) {
       ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
       if (last_ && last_->header.stamp == stamp) return last_;
@@ -162,6 +171,19 @@ TEST_F(DetectorNodeTest, DistancesComeFromTheRegisteredDepthImage) {
   for (int i = 0; i < 20; ++i) ::ros::Duration(0.02).sleep(), ::ros::spinOnce();
   EXPECT_TRUE(warned("no depth image on")) << "a missing depth image must be warned about";
   EXPECT_EQ(with->header.frame_id, "camera");
+}
+
+// A depth image that arrives after its RGB image is still used: the image waits for it.
+TEST_F(DetectorNodeTest, AnImageWaitsForItsLateDepthImage) {
+  scene_graph_tracker::PoseHypothesisArrayConstPtr with = sendFrame(true);
+  for (int attempt = 0; attempt < 3 && (!with || with->hypotheses.empty()); ++attempt)
+    with = sendFrame(true);
+  ASSERT_TRUE(with) << "no hypotheses for the image";
+  const auto late = sendFrame(false, true);
+  ASSERT_TRUE(late) << "the node published nothing for the image whose depth came late";
+  std::cout << "[ figures  ] within 10 cm of the truth: " << located(*with)
+            << " with the depth image first, " << located(*late) << " with it 30 ms late\n";
+  EXPECT_EQ(located(*late), located(*with));
 }
 
 // Every bad image kind is skipped with a warning and counted; the node then detects as before.

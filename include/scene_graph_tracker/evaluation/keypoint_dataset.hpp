@@ -43,6 +43,11 @@ void writeDatasetLabels(const std::filesystem::path& dir, std::size_t index,
                         const std::string& scene_kind, const PinholeModel& camera,
                         const std::vector<DatasetObject>& objects);
 
+// Writes depth/NAME.png: `depth_m` (metres along the optical axis, row-major, width x height)
+// as 16-bit millimetres, 0 where there is no return (NaN, inf, <= 0 or beyond 65 m).
+void writeDatasetDepth(const std::filesystem::path& dir, std::size_t index,
+                       const std::vector<float>& depth_m, int width, int height);
+
 // Writes dataset.yaml: `comment` (how the set was made), the paths and the class names by id.
 void writeDatasetYaml(const std::filesystem::path& dir, const std::string& comment,
                       const std::vector<std::string>& names);

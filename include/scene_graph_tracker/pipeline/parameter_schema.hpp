@@ -93,6 +93,7 @@ struct DetectorParameters {
   std::string image_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
   std::string depth_transport = "raw";
   double depth_max_offset = 0.02;
+  double depth_max_wait = 0.0;
   std::string model = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
   std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;

@@ -9,11 +9,12 @@
 // or compressedDepth: depth_transport) — and each
 // accepted pose gets its distance from the depth image closest in time (within
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
-// (detection/depth_translation.hpp). Without such a depth image the distance stays PnP's and the
-// nodelet warns. Parameters: the parameter schema (pipeline/parameter_schema.hpp),
-// config/detector.yaml, doc/parameters.md; read at start.
-// Bad input is warned about (throttled) and skipped; the nodelet keeps running. Counts of images
-// in, published and skipped on /diagnostics ("scene_graph_tracker: detector"), once a second.
+// (detection/depth_translation.hpp). With `depth_max_wait` > 0 (default 0) an RGB image whose
+// depth image may still come waits for it (ros/depth_pairing.hpp). Without such a depth image
+// the distance stays PnP's and the nodelet warns. Parameters: the parameter schema
+// (pipeline/parameter_schema.hpp), config/detector.yaml, doc/parameters.md; read at start. Bad
+// input is warned about (throttled) and skipped; the nodelet keeps running. Counts of images in,
+// published and skipped on /diagnostics ("scene_graph_tracker: detector"), once a second.
 #pragma once
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -25,11 +26,11 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
-#include <deque>
 #include <memory>
 #include <mutex>
 
 #include "scene_graph_tracker/detection/pose_detector.hpp"
+#include "scene_graph_tracker/ros/depth_pairing.hpp"
 #include "scene_graph_tracker/ros/image_input.hpp"
 #include "scene_graph_tracker/ros/warning_throttle.hpp"
 
@@ -45,8 +46,9 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onImage(const sensor_msgs::ImageConstPtr& image,
                const sensor_msgs::CameraInfoConstPtr& info);
   void onDepth(const sensor_msgs::ImageConstPtr& depth);
+  void detect(const RgbFrame& frame);  // detects on the frame and publishes its hypotheses
   void onUndecodable(const std::string& text);
-  // The buffered depth image closest to `stamp` within depth_max_offset_, as range measurements of
+  // The buffered depth image closest to `stamp` within depth_max_offset, as range measurements of
   // `camera` (the RGB camera it is registered to); nullptr with a warning when there is none.
   std::unique_ptr<RangeMeasurements> registeredDepth(const ::ros::Time& stamp,
                                                      const PinholeModel& camera);
@@ -60,10 +62,9 @@ class DetectorNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ::ros::Publisher hypotheses_pub_, debug_pub_;
-  ImageInput depth_sub_;    // with use_depth
-  std::mutex depth_mutex_;  // the depth buffer is filled by its own callback
-  std::deque<sensor_msgs::ImageConstPtr> depth_images_;
-  double depth_max_offset_{};  // params::DetectorParameters (onInit)
+  ImageInput depth_sub_;  // with use_depth
+  std::unique_ptr<DepthPairing> pairing_;
+  ::ros::WallTimer pairing_timer_;  // ends a wait that no image or depth image ends
   PinholeRayCache depth_rays_;
   struct Counts {  // under mutex_
     std::size_t images_in = 0, published = 0, skipped = 0, depth_unused = 0, hypotheses = 0;

@@ -472,6 +472,9 @@ Schema<D> makeDetectorSchema() {
               "depth_transport)"),
       number<D>("depth_max_offset", kDetection, DET(depth_max_offset), 0.0, 1.0, "s", kStart,
                 "the depth image closest in time to the RGB image, at most this far"),
+      number<D>("depth_max_wait", kDetection, DET(depth_max_wait), 0.0, 1.0, "s", kStart,
+                "how long an RGB image waits for its depth image when that may still come "
+                "(wall time; then its distances come from PnP alone); 0: never waits"),
       text<D>("dnn_backend", kDetection, DET(inference.backend), true,
               "OpenCV DNN backend: opencv, cuda or default (cuda on a Jetson with a CUDA build "
               "of OpenCV; what the build cannot run falls back to opencv / cpu, with a warning)"),
