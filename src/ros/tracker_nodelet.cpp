@@ -52,7 +52,30 @@ std::uint8_t stateCode(TrackState s) {
 
 }  // namespace
 
+// A failed start (a bad parameter, a map or catalog that does not load) throws to the nodelet
+// loader, which then drops this nodelet's callback queues before it destroys the nodelet. The
+// subscriptions made so far are shut down first: destroyed after their queue, they take down
+// the whole manager (SIGSEGV in ros::Subscription::removeCallback).
 void TrackerNodelet::onInit() {
+  try {
+    initialize();
+  } catch (...) {
+    shutDownInterfaces();
+    throw;
+  }
+}
+
+void TrackerNodelet::shutDownInterfaces() {
+  depth_sub_.shutdown();
+  info_sub_.unsubscribe();
+  for (::ros::Subscriber* s : {&cloud_sub_, &scan_sub_, &hypotheses_sub_, &initialpose_sub_})
+    s->shutdown();
+  for (::ros::ServiceServer* s : {&reset_srv_, &add_srv_, &remove_srv_}) s->shutdown();
+  reconfigure_.reset();
+  tf_listener_.reset();
+}
+
+void TrackerNodelet::initialize() {
   ::ros::NodeHandle& nh = getNodeHandle();
   ::ros::NodeHandle& pnh = getPrivateNodeHandle();
   // Every parameter of the schema (pipeline/parameter_schema.hpp) by its name; the others keep

@@ -57,6 +57,8 @@ class TrackerNodelet : public nodelet::Nodelet {
   void onInit() override;
 
  private:
+  void initialize();          // onInit's work; throws when the nodelet cannot start
+  void shutDownInterfaces();  // every subscription, service and listener made so far
   using SyncPolicy =
       message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::CameraInfo>;
 
