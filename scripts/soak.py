@@ -15,7 +15,10 @@ rss_growth_after_warmup compares the median RSS of the last WINDOW_S of the run 
 first WINDOW_S after the warm-up: what the node keeps, not the images it holds at one instant
 (its input queues fill and drain, and freed image buffers go back to the system). A leak shows
 there as it does in single samples. rss_peak_growth is the largest sample after the warm-up
-against that first window's median.
+against that first window's median. rss_anon_growth_after_warmup is the same for the anonymous
+part of the RSS (heap, stacks; /proc RssAnon), without the mapped code and data of the libraries.
+The tracker's diagnostics in each sample carry the allocator's own view (heap_in_use_mb,
+heap_free_held_mb): a growing in-use figure is a leak, a growing free-held one is fragmentation.
 frames_published counts the depth images the player sent, from the header.seq this script's own
 subscriber sees (it reads nothing else): every loop of the bag (whose images are numbered without
 gaps) it saw restart plus the current one up to the last seq seen; for another bag, the images
@@ -101,6 +104,8 @@ def proc_sample(pid):
             for line in f:
                 if line.startswith("VmRSS:"):
                     out["rss_mb"] = int(line.split()[1]) / 1024.0
+                elif line.startswith("RssAnon:"):  # heap and stacks; RssFile is mapped code
+                    out["rss_anon_mb"] = int(line.split()[1]) / 1024.0
                 elif line.startswith("Threads:"):
                     out["threads"] = int(line.split()[1])
         out["fds"] = len(os.listdir("/proc/%d/fd" % pid))
@@ -321,6 +326,7 @@ def main():
         "minutes": a.minutes, "rate": a.rate, "samples": samples,
         "rss_growth_after_warmup": {n: growth(samples, n, "rss_mb", True) for n in NODES},
         "rss_peak_growth": {n: growth(samples, n, "rss_mb", True, peak=True) for n in NODES},
+        "rss_anon_growth_after_warmup": {n: growth(samples, n, "rss_anon_mb", True) for n in NODES},
         "fds_growth": {n: growth(samples, n, "fds", False) for n in NODES},
         "crashes": crashes,
         "frames_published": published, "frames_in": frames_in,

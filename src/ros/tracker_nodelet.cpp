@@ -428,6 +428,9 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));
+    const util::HeapUsage heap = util::heapUsage();  // the whole process: the manager's
+    kv("heap_in_use_mb", std::to_string(heap.in_use_mb));
+    kv("heap_free_held_mb", std::to_string(heap.free_held_mb));
     kv("frame_ms", std::to_string(r->times.total_ms));
     if (external_localization_)
       kv("localized", external_pose_ok_ ? "yes (external)" : "no (no map to odom in TF)");

@@ -47,3 +47,19 @@ TEST(HeapTrim, GivesTheFreePagesOfAFragmentedHeapBack) {
                                   << " MB after";
   for (std::size_t i = 1; i < kBlocks; i += 2) EXPECT_EQ(blocks[i][0], static_cast<char>(i));
 }
+
+TEST(HeapTrim, ReportsTheBytesInUseAndTheFreeBytesHeld) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__) || !defined(__GLIBC__)
+  GTEST_SKIP() << "the sanitizers' allocators are not glibc's arenas";
+#endif
+  constexpr std::size_t kBlocks = 400, kSize = 64 * 1024;  // 26 MB on the heap
+  const sgt::util::HeapUsage before = sgt::util::heapUsage();
+  std::vector<std::unique_ptr<char[]>> blocks;
+  for (std::size_t i = 0; i < kBlocks; ++i) blocks.emplace_back(new char[kSize]);
+  const sgt::util::HeapUsage held = sgt::util::heapUsage();
+  EXPECT_NEAR(held.in_use_mb - before.in_use_mb, kBlocks * kSize / 1e6, 1.0);
+  for (std::size_t i = 0; i < kBlocks - 1; i += 2) blocks[i].reset();  // the last one stays
+  const sgt::util::HeapUsage freed = sgt::util::heapUsage();
+  EXPECT_NEAR(held.in_use_mb - freed.in_use_mb, kBlocks / 2 * kSize / 1e6, 1.0);
+  EXPECT_GT(freed.free_held_mb - held.free_held_mb, 0.9 * kBlocks / 2 * kSize / 1e6);
+}

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <Eigen/Eigenvalues>
 #include <random>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
@@ -117,6 +118,31 @@ TEST(ObjectRefiner, OneObjectFromThreeCentimetresTenDegrees) {
     const RefinerOptions defaults;
     EXPECT_LT(r.rays_cast / defaults.rounds, m.size() / 8) << "casts only the rays near the object";
   }
+}
+
+// The information of the fit's pairs: symmetric, positive definite for a box seen from above and
+// the side, its translation part about inliers per unit normal; all zero when not asked for.
+TEST(ObjectRefiner, ReportsWhatItsPairsConstrainOnlyWhenAsked) {
+  Bench b;
+  b.add("materialbox", 0.0, 0.0, 0.4, 10);
+  const RangeMeasurements m = b.measure(1);
+  b.perturbAll(0.01, 3.0, 1);
+  const ObjectQuality q = ObjectRefiner().refine(b.scene, b.targets, {m}).objects.at(0).quality;
+  ASSERT_EQ(q.status, RefineStatus::kOk) << toString(q.status);
+  EXPECT_TRUE(q.information.isApprox(q.information.transpose()));
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  const double smallest =
+      Eigen::SelfAdjointEigenSolver<Mat6>(q.information, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  EXPECT_GT(smallest, 0.0);
+  const double translation_trace = q.information.topLeftCorner(3, 3).trace();
+  EXPECT_NEAR(translation_trace, q.inliers, 1e-4 * q.inliers);
+  b.perturbAll(0.01, 3.0, 1);
+  RefinerOptions without;
+  without.information = false;
+  const ObjectQuality q0 =
+      ObjectRefiner(without).refine(b.scene, b.targets, {m}).objects.at(0).quality;
+  EXPECT_EQ(q0.inliers, q.inliers);
+  EXPECT_TRUE(q0.information.isZero());
 }
 
 // An unknown box 1.5 cm beside a well-placed object: its points are unexplained and near the

@@ -137,6 +137,7 @@ struct PipelineOptions {
     o.ray_stride = 2;
     o.full_resolution_last_round = false;
     o.max_dist_last = 0.02f;
+    o.information = false;  // the contest compares pairs and residuals only
     return o;
   }
 };

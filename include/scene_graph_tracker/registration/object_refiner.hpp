@@ -50,6 +50,9 @@ struct RefinerOptions {
   int pull_point_to_point_rounds = 2;
   double min_inlier_ratio = 0.3;  // below it an object counts as a false hypothesis
   double step_tolerance = 1e-6;   // inner steps stop when an update moves less (m, rad)
+  // Fill ObjectQuality::information (a 6 x 6 sum per pair; a caller that does not weight its fits
+  // by it saves that work).
+  bool information = true;
   AlignmentOptions alignment;
 };
 

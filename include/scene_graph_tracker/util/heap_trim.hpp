@@ -13,4 +13,13 @@ namespace sgt::util {
 // Returns whether it trimmed.
 bool trimHeapEvery(double period_s);
 
+// What the allocator holds now (glibc's mallinfo2): bytes in blocks the program uses, and bytes
+// of freed blocks it keeps for reuse (the part of the RSS a trim or a new burst decides). Both 0
+// without glibc.
+struct HeapUsage {
+  double in_use_mb = 0.0;
+  double free_held_mb = 0.0;
+};
+HeapUsage heapUsage();
+
 }  // namespace sgt::util

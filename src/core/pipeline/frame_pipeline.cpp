@@ -170,7 +170,9 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
     }
     targets.push_back(target);
   }
-  const RefineResult r = ObjectRefiner(options_.refiner).refine(scene_, targets, sets);
+  RefinerOptions refiner = options_.refiner;
+  refiner.information = options_.fit_point_sigma_m > 0.0;  // only weighted fits read it
+  const RefineResult r = ObjectRefiner(refiner).refine(scene_, targets, sets);
   updateTracks(r, sets, stamp, dropped);
   scene_.commit();
 }

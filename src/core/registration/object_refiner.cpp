@@ -189,6 +189,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         ++q.inliers;
         sq += r * r;
         result.assignment[s][p.ray] = targets[k].node;
+        if (!options_.information) continue;
         const Eigen::Vector3d n = p.normal.cast<double>();
         Eigen::Matrix<double, 6, 1> J;
         J << n, (p.model.cast<double>() - centre).cross(n);

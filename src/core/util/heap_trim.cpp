@@ -26,4 +26,14 @@ bool trimHeapEvery(double period_s) {
 #endif
 }
 
+HeapUsage heapUsage() {
+  HeapUsage u;
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  u.in_use_mb = static_cast<double>(m.uordblks + m.hblkhd) / 1e6;
+  u.free_held_mb = static_cast<double>(m.fordblks) / 1e6;
+#endif
+  return u;
+}
+
 }  // namespace sgt::util
