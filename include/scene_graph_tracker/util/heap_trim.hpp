@@ -13,8 +13,9 @@ namespace sgt::util {
 // Returns whether it trimmed.
 bool trimHeapEvery(double period_s);
 
-// What the allocator holds now (glibc's mallinfo2): bytes in blocks the program uses, and bytes
-// of freed blocks it keeps for reuse (the part of the RSS a trim or a new burst decides). Both 0
+// What the allocator holds now (glibc's mallinfo2, over all arenas): bytes in blocks the program
+// uses, and bytes in the free blocks it keeps for reuse (a trim gives their whole pages back to
+// the system but keeps the blocks, so this is an upper bound of the free memory resident). Both 0
 // without glibc.
 struct HeapUsage {
   double in_use_mb = 0.0;
