@@ -2,6 +2,7 @@
 // accepts a crate's symmetric twin without spinning, and gates by Mahalanobis distance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
@@ -59,6 +60,58 @@ TEST(PoseFilter, CoastingSlowsDown) {
   // With decay constant 0.3 s the object travels at most 0.2 m/s x 0.3 s = 6 cm, not 40 cm.
   EXPECT_LT((f.pose().translation() - before).norm(), 0.065);
   EXPECT_LT(f.velocity().norm(), 0.001);
+}
+
+// An object at rest for 1 s, then picked up: 0.8 m/s and 2.5 rad/s from one frame to the next,
+// measured at 30 Hz with 2 mm / 0.01 rad noise.
+struct PickUp {
+  double translation_mm = 0.0, rotation_deg = 0.0;  // mean one-step prediction errors, first 0.5 s
+  double rest_scale = 1.0;  // the largest noise scale while the object rested
+};
+
+PickUp pickUp(double max_noise_scale) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  PoseFilterNoise noise;
+  noise.max_noise_scale = max_noise_scale;
+  const PoseFilter::Mat6 C = covariance(0.002, 0.01);
+  const auto truth = [](double t) {
+    const double moving = std::max(0.0, t - 1.0);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(1.0 + 0.8 * moving, 2.0, 0.8);
+    T.linear() = Eigen::AngleAxisd(2.5 * moving, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+  };
+  PoseFilter f(truth(0), C, noise);
+  const double dt = 1.0 / 30.0;
+  PickUp out;
+  for (int k = 1; k <= 45; ++k) {
+    f.predict(dt);
+    const Eigen::Isometry3d T = truth(k * dt);
+    if (k > 30) {
+      out.translation_mm += 1000.0 * (f.pose().translation() - T.translation()).norm() / 15.0;
+      out.rotation_deg += test::rotationErrorDeg(f.pose().linear(), T.linear()) / 15.0;
+    }
+    Eigen::Isometry3d m = T;
+    m.translation() += 0.002 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    m.linear() = expSO3(0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng))) * m.linear();
+    f.update(m, C);
+    if (k < 30)
+      out.rest_scale =
+          std::max({out.rest_scale, f.translationNoiseScale(), f.rotationNoiseScale()});
+  }
+  return out;
+}
+
+TEST(PoseFilter, AManoeuvreRaisesTheProcessNoiseUntilTheModelFollows) {
+  const PickUp fixed = pickUp(1.0), adapted = pickUp(100.0);
+  EXPECT_EQ(fixed.rest_scale, 1.0);
+  EXPECT_LT(adapted.rest_scale, 5.0) << "noise at rest barely raises the process noise";
+  EXPECT_LT(adapted.rotation_deg, 0.6 * fixed.rotation_deg)
+      << "turn lag " << adapted.rotation_deg << " deg adapted, " << fixed.rotation_deg << " fixed";
+  EXPECT_LT(adapted.translation_mm, 1.1 * fixed.translation_mm)
+      << "translation lag " << adapted.translation_mm << " mm adapted, " << fixed.translation_mm
+      << " fixed";
 }
 
 TEST(PoseFilter, SymmetricTwinDoesNotSpinTheFilter) {

@@ -20,6 +20,12 @@ struct PoseFilterNoise {
   // because a far object's velocity is mostly refinement jitter, which a longer decay carries a
   // hidden object away on.
   double coast_decay_s = 0.05;
+  // Manoeuvres (an object picked up, carried, turned in a hand) break the constant-velocity
+  // model. A measurement whose translation or rotation innovation the model cannot explain
+  // (normalized innovation squared beyond the 99 % chi-square bound of its 3 degrees of freedom)
+  // multiplies that part's process noise by this factor for the following predictions; each
+  // measurement that fits halves the factor back towards 1. 1: off.
+  double max_noise_scale = 1.0;
 };
 
 class PoseFilter {
@@ -47,16 +53,21 @@ class PoseFilter {
   const Eigen::Vector3d& velocity() const { return v_; }
   const Eigen::Vector3d& angularVelocity() const { return w_; }
   const Mat12& covariance() const { return P_; }
+  // The current process-noise scales (>= 1) of translation and rotation (max_noise_scale).
+  double translationNoiseScale() const { return scale_t_; }
+  double rotationNoiseScale() const { return scale_r_; }
   Mat6 poseCovariance() const;
 
  private:
   Eigen::Matrix<double, 6, 1> innovation(const Eigen::Isometry3d& T_measured,
                                          const Symmetry* symmetry) const;
+  void adaptNoise(const Eigen::Matrix<double, 6, 1>& r, const Mat6& S);
 
   Eigen::Vector3d p_, v_ = Eigen::Vector3d::Zero(), w_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_;
   Mat12 P_;
   PoseFilterNoise noise_;
+  double scale_t_ = 1.0, scale_r_ = 1.0;
 };
 
 // Covariance of a pose measurement with independent noise: sigma_m (m) on each translation

@@ -248,6 +248,10 @@ Schema<T> filterParams() {
       number<T>(
           "motion/coast_decay_s", kFilter, PIPE(motion.coast_decay_s), 0.0, 10.0, "s", kRuntime,
           "time constant with which the velocities of a coasting track decay (0: they do not)"),
+      number<T>("motion/max_noise_scale", kFilter, PIPE(motion.max_noise_scale), 1.0, 1e4, "",
+                kRuntime,
+                "largest factor by which the process noise of a track grows while its measurements "
+                "show a manoeuvre the constant-velocity model cannot explain (new tracks; 1: off)"),
       number<T>("refined_sigma_m", kFilter, PIPE(refined_sigma_m), 1e-5, 1.0, "m", kRuntime,
                 "noise of a refined pose, translation"),
       number<T>("refined_sigma_rad", kFilter, PIPE(refined_sigma_rad), 1e-5, 1.0, "rad", kRuntime,

@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -44,8 +45,8 @@ void PoseFilter::predict(double dt) {
         Eigen::Matrix3d::Identity() * q * dt * dt / 2.0;
     Q.block<3, 3>(i + 3, i + 3) = Eigen::Matrix3d::Identity() * q * dt;
   };
-  block(0, noise_.accel);
-  block(6, noise_.angular_accel);
+  block(0, noise_.accel * std::sqrt(scale_t_));
+  block(6, noise_.angular_accel * std::sqrt(scale_r_));
   P_ = F * P_ * F.transpose() + Q;
 }
 
@@ -88,6 +89,7 @@ double PoseFilter::update(const Eigen::Isometry3d& T, const Mat6& cov, const Sym
   H.block<3, 3>(0, 0).setIdentity();
   H.block<3, 3>(3, 6).setIdentity();
   const Mat6 S = H * P_ * H.transpose() + cov;
+  adaptNoise(r, S);
   const Eigen::Matrix<double, 12, 6> K = P_ * H.transpose() * S.inverse();
   const Eigen::Matrix<double, 12, 1> dx = K * r;
   p_ += dx.segment<3>(0);
@@ -97,6 +99,17 @@ double PoseFilter::update(const Eigen::Isometry3d& T, const Mat6& cov, const Sym
   const Mat12 I_KH = Mat12::Identity() - K * H;
   P_ = I_KH * P_ * I_KH.transpose() + K * cov * K.transpose();  // Joseph form: stays symmetric PSD
   return r.dot(S.ldlt().solve(r));
+}
+
+void PoseFilter::adaptNoise(const Eigen::Matrix<double, 6, 1>& r, const Mat6& S) {
+  if (!(noise_.max_noise_scale > 1.0)) return;
+  constexpr double kChi2_3_99 = 11.345;  // 99 % quantile of chi-square with 3 dof
+  const auto adapt = [&](double& scale, int i) {
+    const double nis = r.segment<3>(i).dot(S.block<3, 3>(i, i).ldlt().solve(r.segment<3>(i)));
+    scale = nis > kChi2_3_99 ? noise_.max_noise_scale : std::max(1.0, 0.5 * scale);
+  };
+  adapt(scale_t_, 0);
+  adapt(scale_r_, 3);
 }
 
 Eigen::Isometry3d PoseFilter::pose() const {
