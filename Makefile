@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test test-asan test-tsan install-check bench demo suite real latency soak model params fuzz clean
+.PHONY: deps build test test-asan test-tsan install-check bench demo suite ablation real latency soak model params fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -99,6 +99,18 @@ suite: build
 	@/usr/bin/python3 scripts/suite.py --tools $(TOOLS) --output $(SUITE_DIR) --count $(SUITE_COUNT) \
 	  --seed $(SUITE_SEED) --jobs $(SUITE_JOBS) $(if $(SUITE_DETECTOR),--detector $(SUITE_DETECTOR)) \
 	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR)) $(SUITE_ARGS)
+
+# Tracker rules judged on the suite: the suite (SUITE_COUNT, SUITE_SEED, SUITE_DETECTOR,
+# SUITE_MESH_DIR, SUITE_JOBS) once with the package's parameters, keeping its bags, then once per
+# variant of config/ablation.yaml (each rule switched off, each candidate on), replaying those
+# bags. ABLATION_VARIANTS=a,b runs only those; variants already scored are read, not run again.
+# Writes ABLATION_DIR/ablation.md (the table against the baseline) and ablation.json.
+ABLATION_DIR ?= $(BUILD)/ablation
+ABLATION_VARIANTS ?=
+ablation: build
+	@/usr/bin/python3 scripts/ablation.py --tools $(TOOLS) --output $(ABLATION_DIR) --count $(SUITE_COUNT) \
+	  --seed $(SUITE_SEED) --jobs $(SUITE_JOBS) $(if $(SUITE_DETECTOR),--detector $(SUITE_DETECTOR)) \
+	  $(if $(SUITE_MESH_DIR),--mesh-dir $(SUITE_MESH_DIR)) $(if $(ABLATION_VARIANTS),--only $(ABLATION_VARIANTS))
 
 # A real RGB-D recording (a sequence folder: evaluation/rgbd_sequence.hpp) as a bag
 # (sequence_to_bag), then scored with the camera only: the recording's camera poses as an external

@@ -94,6 +94,9 @@ void rawCast(RTCScene scene, const SensorRays& rays, const Eigen::Isometry3d& T,
                         for (int k = 0; k < 16; ++k) {
                           const int x = x0 + (k & 3), y = y0 + (k >> 2);
                           valid[k] = (x < rays.width && y < rays.height) ? -1 : 0;
+                          // An empty segment: without native 16-wide packets Embree ignores the
+                          // mask (RaycastScene's clearPacket says more).
+                          rh.ray.tnear[k] = 1.0f, rh.ray.tfar[k] = 0.0f;
                           if (!valid[k]) continue;
                           const Eigen::Vector3f d = R * rays.directions[y * rays.width + x];
                           rh.ray.org_x[k] = o.x(), rh.ray.org_y[k] = o.y(), rh.ray.org_z[k] = o.z();

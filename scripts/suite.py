@@ -2,12 +2,14 @@
 """The scenario suite (`make suite`): generate scenarios, simulate and evaluate each, summarise.
 
   scripts/suite.py --tools DIR --output DIR [--count 20] [--seed 1] [--detector default]
-                   [--mesh-dir DIR] [--jobs 2] [--keep-bags] [--evaluate-args "--params FILE"]
+                   [--mesh-dir DIR] [--jobs 2] [--keep-bags] [--bags DIR]
+                   [--evaluate-args "--params FILE"]
 
 OUTPUT/scenarios/ holds the generated YAMLs and their index (generate_scenarios);
 OUTPUT/runs/<name>/ each scenario's report.json, report.md, timeseries.csv and logs (the bag is
 deleted once it is scored; --keep-bags keeps it, and a later --keep-bags run replays a kept bag
-of the same scenario instead of simulating it again). Then:
+of the same scenario instead of simulating it again; --bags DIR replays the bags kept in another
+suite's output DIR, read-only, and simulates only the scenarios it has no bag of). Then:
   OUTPUT/summary.json  `scenarios` (name, kinds, status, report) and, for every numeric
                        report.json key outside per_object, {median, worst, mean} under the same
                        nested name (worst: the minimum for recall-like keys, else the maximum);
@@ -74,27 +76,36 @@ class Suite:
         with open(s['path']) as f:
             return hashlib.sha256((f.read() + self.a.mesh_dir).encode()).hexdigest()
 
-    def reusable(self, s, bag):
-        """With --keep-bags, a kept bag of the same scenario is replayed, not simulated again."""
+    def kept(self, s, bag):
+        """Whether bag was kept from simulating this very scenario (its .source says so)."""
         try:
             with open(bag + '.source') as f:
-                return self.a.keep_bags and os.path.exists(bag) and f.read() == self.source(s)
+                return os.path.exists(bag) and f.read() == self.source(s)
         except OSError:
             return False
+
+    def shared_bag(self, s):
+        """The bag of s that another suite's run kept (--bags), or None."""
+        if not self.a.bags:
+            return None
+        bag = os.path.join(self.a.bags, 'runs', s['name'], 'run.bag')
+        return bag if self.kept(s, bag) else None
 
     def one(self, s):
         d = os.path.join(self.a.output, 'runs', s['name'])
         os.makedirs(d, exist_ok=True)
-        bag = os.path.join(d, 'run.bag')
+        own_bag = os.path.join(d, 'run.bag')
+        bag = self.shared_bag(s) or own_bag
         entry = {'name': s['name'], 'kinds': s['kinds'], 'index': s, 'status': 'ok'}
         with open(s['path']) as f:
             entry['classes'] = {o['id']: o['class'] for o in yaml.safe_load(f)['objects']}
         t0 = time.time()
-        if not self.reusable(s, bag) and run(
+        replayed = bag != own_bag or (self.a.keep_bags and self.kept(s, bag))
+        if not replayed and run(
                 [self.tool('simulate'), '--scenario', s['path'], '--output', bag, '--quiet']
                 + self.mesh_args(), os.path.join(d, 'simulate.log')) != 0:
             entry['status'] = 'simulate failed (%s)' % os.path.join(d, 'simulate.log')
-        elif self.a.keep_bags:
+        elif self.a.keep_bags and bag == own_bag:
             with open(bag + '.source', 'w') as f:
                 f.write(self.source(s))
         t1 = time.time()
@@ -106,8 +117,8 @@ class Suite:
             if run(cmd, os.path.join(d, 'evaluate.log')) != 0:
                 entry['status'] = 'evaluate failed (%s)' % os.path.join(d, 'evaluate.log')
         t2 = time.time()
-        if not self.a.keep_bags and os.path.exists(bag):
-            os.remove(bag)
+        if not self.a.keep_bags and os.path.exists(own_bag):
+            os.remove(own_bag)
         report = os.path.join(d, 'report.json')
         if entry['status'] == 'ok':
             with open(report) as f:
@@ -144,10 +155,13 @@ def main():
     ap.add_argument('--mesh-dir', default='')
     ap.add_argument('--jobs', type=int, default=2)
     ap.add_argument('--keep-bags', action='store_true')
+    ap.add_argument('--bags', default='', help="another suite's output whose kept bags to replay")
     ap.add_argument('--evaluate-args', default='', help='more arguments for evaluate, e.g. "--params FILE"')
     a = ap.parse_args()
     if a.mesh_dir:
         a.mesh_dir = os.path.abspath(a.mesh_dir)
+    if a.bags:
+        a.bags = os.path.abspath(a.bags)
     os.makedirs(a.output, exist_ok=True)
     suite = Suite(a)
     scenarios = suite.generate()

@@ -325,6 +325,17 @@ void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Ve
   rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
 }
 
+// Makes every lane of a packet inactive: an empty segment (tnear > tfar) at a finite origin. The
+// valid mask alone is not enough: where the CPU has no native 16-wide packets (AVX2 without
+// AVX-512) Embree traces a 16-ray packet as a ray stream, which ignores the mask and takes every
+// lane whose tnear <= tfar as a ray to trace.
+void clearPacket(RTCRayHit16& rh, int valid[16]) {
+  for (int k = 0; k < 16; ++k) {
+    valid[k] = 0;
+    setLane(rh, k, Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ(), 1.0f, 0.0f);
+  }
+}
+
 }  // namespace
 
 void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor,
@@ -351,7 +362,7 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
         RTCRayHit16 rh;
         std::size_t index[16];
         for (std::size_t b = block.begin(); b != block.end(); ++b) {
-          std::fill(std::begin(valid), std::end(valid), 0);
+          clearPacket(rh, valid);
           set.forTile(rays, b, [&](int k, std::size_t i) {
             float far = rays.range_max;
             if (limit.range) {
@@ -385,10 +396,11 @@ void RaycastScene::cast(const std::vector<WorldRay>& rays, RayHits& hits) const 
                       alignas(64) int valid[16];
                       RTCRayHit16 rh;
                       for (std::size_t b = block.begin(); b != block.end(); ++b) {
+                        clearPacket(rh, valid);
                         for (int k = 0; k < 16; ++k) {
                           const std::size_t i = b * 16 + k;
-                          valid[k] = i < rays.size() ? -1 : 0;
-                          if (!valid[k]) continue;
+                          if (i >= rays.size()) break;
+                          valid[k] = -1;
                           setLane(rh, k, rays[i].origin, rays[i].direction, 0.0f, rays[i].far);
                         }
                         rtcIntersect16(valid, top_, &context, &rh);
