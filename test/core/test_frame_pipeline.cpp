@@ -423,11 +423,11 @@ TEST(FramePipeline, AFarSmallObjectsWeakFitsPlaceItsTentativeTrack) {
 }
 
 // The material box is detected turned by 90 deg about z in every frame. For 2 s the robot is
-// 2.8 m away with a QVGA depth image: the track is confirmed (thresholds lowered for that) and
-// the orientation searches there end at the detection's turn. Then from 1.1 m (VGA) the turned
-// model explains 89 % of its rays, below research_below_fit_support: searched again, it turns
-// right. Without the rule it keeps the turn to the end (as the demo's material box with scenario
-// seed 44 did). Returns the track's rotation error at the end (deg).
+// 2.8 m away with a QVGA depth image: the track is confirmed (thresholds lowered for that) at
+// the detection's turn. Then from 1.1 m (VGA) the turned model explains 89 % of its rays, below
+// research_below_fit_support: searched again, it turns right. Without the rule it keeps the turn
+// to the end (as the demo's material box with scenario seed 44 did). Returns the track's
+// rotation error at the end (deg).
 double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   const auto bench = test::benchScene();
   const Eigen::Isometry3d& truth = bench->truth[2];  // the material box
@@ -458,9 +458,14 @@ double turnedMaterialBoxErrorDeg(double research_below_fit_support) {
   options.restart_replaces_outliers = false;
   options.research_below_fit_support = research_below_fit_support;
   options.confirm_inlier_ratio = options.min_fit_support = 0.4;  // confirmed far away, turned
-  FramePipeline pipeline(bench->catalog, bench->map, options);
+  // Far away the track takes the detections' turn: no search there (whether one from 2.8 m finds
+  // the right turn is a toss-up that differs between CPUs).
+  PipelineOptions far = options;
+  far.search_orientations = false;
+  FramePipeline pipeline(bench->catalog, bench->map, far);
   double error = 180.0;
   for (int f = 0; f < 150; ++f) {
+    if (f == 60) pipeline.setOptions(options);
     const View& v = views[f < 60 ? 0 : 1];
     PipelineFrame frame;
     frame.stamp = f / 30.0;
