@@ -134,8 +134,8 @@ def markdown(variants, rows, a):
     hypotheses = 'the detector (%s)' % a.detector if a.detector else 'simulated hypotheses'
     lines = ['# Ablation on the suite of %d (seed %d), %s' % (a.count, a.seed, hypotheses), '',
              'Each row: the suite with one variant of the parameters; in brackets the difference '
-             'to the baseline. "changed": scenarios whose ADD(-S) recall moved by 0.005 or more.',
-             '']
+             'to the baseline. "changed": scenarios whose ADD(-S) recall moved by 0.005 or more. '
+             'Frame times depend on what else the machine ran beside each variant.', '']
     head = ['variant', 'kind', 'what', 'parameters']
     head += ['%s %s' % (label, s) for _, label, stats in FIGURES for s in stats] + ['changed']
     lines += ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
