@@ -325,14 +325,15 @@ void setLane(RTCRayHit16& rh, int k, const Eigen::Vector3f& org, const Eigen::Ve
   rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// Makes every lane of a packet inactive: an empty segment (tnear > tfar) at a finite origin. The
-// valid mask alone is not enough: where the CPU has no native 16-wide packets (AVX2 without
-// AVX-512) Embree traces a 16-ray packet as a ray stream, which ignores the mask and takes every
-// lane whose tnear <= tfar as a ray to trace.
+// Makes every lane of a packet inactive: an empty segment (tnear > tfar). The valid mask alone is
+// not enough: where the CPU has no native 16-wide packets (AVX2 without AVX-512) Embree traces a
+// 16-ray packet as a ray stream, which ignores the mask and takes every lane whose tnear <= tfar
+// as a ray to trace. Only the segment is written: setLane fills the lanes that are used.
 void clearPacket(RTCRayHit16& rh, int valid[16]) {
   for (int k = 0; k < 16; ++k) {
     valid[k] = 0;
-    setLane(rh, k, Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ(), 1.0f, 0.0f);
+    rh.ray.tnear[k] = 1.0f;
+    rh.ray.tfar[k] = 0.0f;
   }
 }
 
