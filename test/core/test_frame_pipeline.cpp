@@ -337,6 +337,67 @@ TEST(FramePipeline, AConfirmedTrackTheMeasurementsContradictGoes) {
   EXPECT_LT(unknown_before, 90u);
 }
 
+// A multimeter held above the KLT is confirmed; then it is let go into the KLT, where the
+// crate's walls hide it from the camera, and the detector sees it no more. Where its track
+// coasts, the camera sees through it: with unseen_drop_m the track drops onto the crate's floor,
+// where nothing shows it missing, and stays; without, that evidence of absence removes it after
+// remove_after_s. Returns the multimeter track's error at the end (m; infinity when it has gone)
+// and whether the crate really hides it (else no test).
+std::pair<double, bool> multimeterLetGoIntoTheKlt(double unseen_drop_m) {
+  const auto bench = test::benchScene();
+  const auto index = [&](const std::string& c) {
+    return std::find(bench->classes.begin(), bench->classes.end(), c) - bench->classes.begin();
+  };
+  const std::size_t klt = index("klt"), meter = index("multimeter");
+  RaycastScene& world = *bench->world;
+  // The crate's floor under its centre: a ray straight down from above the crate.
+  const Eigen::Vector3d centre = bench->truth[klt].translation();
+  RayHits floor_hit;
+  world.cast({{Eigen::Vector3f(centre.x(), centre.y(), centre.z() + 1.0), -Eigen::Vector3f::UnitZ(),
+               2.0f}},
+             floor_hit);
+  const double box_bottom = bench->catalog->get("multimeter").box.min().z();
+  Eigen::Isometry3d T_in = bench->truth[meter], T_above = bench->truth[meter];
+  T_in.translation() = Eigen::Vector3d(centre.x(), centre.y(), floor_hit.point[0].z() - box_bottom);
+  T_above.translation() = T_in.translation() + Eigen::Vector3d(0.0, 0.0, 0.3);
+  const auto [T_map_base, T_map_camera] = test::facingTheBench(*bench, 2.0);
+  const PinholeModel cam = PinholeModel::xtion();
+  const auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  std::vector<SimulatedScan> scans;
+  for (const Eigen::Isometry3d& T : {T_above, T_in}) {
+    world.setInstancePose(test::BenchScene::objectNode(meter), T);
+    world.commit();
+    scans.push_back(simulate(world, *rays, T_map_camera));
+  }
+  const bool hidden = std::none_of(scans[1].node.begin(), scans[1].node.end(), [&](NodeId n) {
+    return n == test::BenchScene::objectNode(meter);
+  });
+  PipelineOptions options;
+  options.localize = false;
+  options.unseen_drop_m = unseen_drop_m;
+  FramePipeline pipeline(bench->catalog, bench->map, options);
+  double error = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < 90; ++f) {  // held above for 1 s, then in the crate for 2 s
+    PipelineFrame frame =
+        depthFrame(f, T_map_base, cam, rays, scans[f < 30 ? 0 : 1], T_map_camera, 0.0015, 300 + f);
+    frame.hypotheses.push_back({"klt", T_map_base.inverse() * bench->truth[klt], 0.9});
+    if (f < 30) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * T_above, 0.9});
+    error = std::numeric_limits<double>::infinity();
+    for (const TrackedObject& o : pipeline.process(frame).objects)
+      if (o.class_name == "multimeter" && o.state != TrackState::kTentative)
+        error = (o.T_map_object.translation() - T_in.translation()).norm();
+  }
+  return {error, hidden};
+}
+
+TEST(FramePipeline, ATrackSeenMissingWhereItHoversDropsOutOfSightAndStays) {
+  const auto [error, hidden] = multimeterLetGoIntoTheKlt(0.3);
+  ASSERT_TRUE(hidden) << "the crate must hide the multimeter (else no test)";
+  EXPECT_LT(error, 0.02) << "m, the track in the crate";
+  EXPECT_EQ(multimeterLetGoIntoTheKlt(0.0).first, std::numeric_limits<double>::infinity())
+      << "without the drop the track must go (else no test)";
+}
+
 // A detector keeps reporting a relay on the floor behind the robot, out of the camera's view, so
 // no ray can tell whether it is there. Resting on the floor, its track stays;
 // sunk 4 cm into the floor it is nowhere a real object can be and goes after

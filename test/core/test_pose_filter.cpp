@@ -137,6 +137,25 @@ TEST(PoseFilter, MahalanobisDistanceGates) {
   EXPECT_GT(f.distance2(far, C), 100.0);
 }
 
+TEST(PoseFilter, TurnDistanceWeighsTheRotationAloneAndForgivesSymmetricTwins) {
+  const PoseFilter::Mat6 C = covariance(0.002, 0.01);
+  PoseFilter f(truthAt(0), C);
+  Eigen::Isometry3d moved = truthAt(0), tipped = truthAt(0), twin = truthAt(0);
+  moved.translation().x() += 0.3;  // far, but not turned
+  tipped.linear() = tipped.linear() * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX());
+  EXPECT_LT(f.turnDistance2(moved, C), 1e-9);
+  EXPECT_GT(f.distance2(moved, C), 1000.0);
+  // 0.5 rad against sqrt(0.01^2 + 0.01^2) rad: (0.5 / 0.01414)^2 = 1250.
+  EXPECT_NEAR(f.turnDistance2(tipped, C), 1250.0, 1.0);
+  Symmetry half_turn;
+  Eigen::Isometry3d S = Eigen::Isometry3d::Identity();
+  S.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  half_turn.discrete.push_back(S);
+  twin = truthAt(0) * S;
+  EXPECT_LT(f.turnDistance2(twin, C, &half_turn), 1e-6);
+  EXPECT_GT(f.turnDistance2(twin, C), 1000.0);
+}
+
 // Information (sum of J J^T, as the refiner sums it) of point-to-plane terms at `points` with
 // `normal`, about `centre`.
 PoseFilter::Mat6 planeInformation(const std::vector<Eigen::Vector3d>& points,

@@ -85,6 +85,29 @@ TEST(LostTrackResume, RejectsAFarOrPartialFitUntilADetectionRestartsIt) {
   EXPECT_FALSE(LostTrackResume::rejects(confirmedLife(1.0), e, kOptions));  // only lost tracks
 }
 
+TEST(TurnGate, AnEstablishedTrackCoastsThroughAFitTurnedBeyondTheGate) {
+  LifecycleOptions on = kOptions;
+  on.fit_turn_gate = 16.27;
+  const auto rejects = [&](TrackState s, bool child, RefineStatus fit, double d2) {
+    return TurnGate::rejects(s, child, fit, d2, on);
+  };
+  EXPECT_TRUE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 17.0));
+  EXPECT_TRUE(rejects(TrackState::kLost, false, RefineStatus::kOk, 17.0));
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 16.0));  // within
+  EXPECT_FALSE(rejects(TrackState::kTentative, false, RefineStatus::kOk, 1e6));   // not established
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, true, RefineStatus::kOk, 1e6));    // a child
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kTooFewPoints, 1e6));
+  LifecycleOptions off = on;
+  off.fit_turn_gate = 0.0;
+  EXPECT_FALSE(TurnGate::rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 1e6, off));
+  // A rejected fit is no good fit: a confirmed track coasts and is lost.
+  TrackEvidence e = goodFit(1.0);
+  e.fit.status = RefineStatus::kImplausibleTurn;
+  const Transition t = next(confirmedLife(0.9), e, on);
+  EXPECT_EQ(t.fit_use, FitUse::kCoast);
+  EXPECT_EQ(t.life.state, TrackState::kLost);
+}
+
 TEST(FitSupport, IsARunningMeanThatStartsAtTheFirstFit) {
   EXPECT_DOUBLE_EQ(FitSupport::next(-1.0, 0.8, kOptions), 0.8);
   EXPECT_DOUBLE_EQ(FitSupport::next(0.8, 0.4, kOptions), 0.8 + 0.25 * (0.4 - 0.8));

@@ -179,6 +179,11 @@ class FramePipeline {
   // other tracks (max_hidden_fraction_for_absence) find no surface there.
   // frame_pipeline_visibility.cpp.
   bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
+  // Track k, seen absent where it coasts, dropped straight down (world -z) by up to
+  // unseen_drop_m onto what lies below it: when the sensors cannot see it missing there (it went
+  // down into a container, behind a wall), it stays there with a restarted filter. Returns
+  // whether it moved. frame_pipeline_visibility.cpp.
+  bool dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets);
   bool sunkIntoMap(const std::string& class_name,
                    const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
   // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.

@@ -62,6 +62,7 @@ enum class RefineStatus {
   kTooFewPoints,     // visible, but fewer inliers than alignment.min_points: pose kept
   kDegenerate,       // inliers are collinear or planar: pose kept from then on
   kFalseHypothesis,  // inlier ratio below min_inlier_ratio: likely nothing there
+  kImplausibleTurn,  // set by the tracker: turned farther than the track's motion model allows
 };
 const char* toString(RefineStatus s);
 

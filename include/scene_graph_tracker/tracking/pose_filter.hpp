@@ -48,6 +48,10 @@ class PoseFilter {
   // Squared Mahalanobis distance of a pose from the prediction, without updating.
   double distance2(const Eigen::Isometry3d& T, const Mat6& covariance,
                    const Symmetry* symmetry = nullptr) const;
+  // The same for the rotation alone (3 degrees of freedom); `covariance` is the measurement's
+  // full 6x6 one, of which its rotation block counts.
+  double turnDistance2(const Eigen::Isometry3d& T, const Mat6& covariance,
+                       const Symmetry* symmetry = nullptr) const;
 
   Eigen::Isometry3d pose() const;
   const Eigen::Vector3d& velocity() const { return v_; }

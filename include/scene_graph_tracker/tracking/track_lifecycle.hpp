@@ -39,6 +39,7 @@ struct LifecycleOptions {
   int disputes_to_contest;   // consecutive disputing hypotheses that contest the orientation
   int min_points;            // the refiner's alignment.min_points: a fit needs this many
   double min_inlier_ratio;   // the refiner's: below it a fit explains nothing there
+  double fit_turn_gate;      // chi-square bound (3 dof) on a fit's turn from the prediction; 0: off
 };
 
 // What a track knows of its own history.
@@ -93,6 +94,15 @@ struct WeakFitPlacement {
 // lost_track_resume_inlier_ratio of its rays is a glimpse past an occluder.
 struct LostTrackResume {
   static bool rejects(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
+};
+
+// An established track (confirmed or lost; not a child, which its parent moves) does not take a
+// good fit whose rotation lies beyond fit_turn_gate of its predicted one (squared Mahalanobis
+// distance `turn_distance2`, prediction and fit noise): the motion model says the object cannot
+// have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
+struct TurnGate {
+  static bool rejects(TrackState state, bool child, RefineStatus fit, double turn_distance2,
+                      const LifecycleOptions& o);
 };
 
 // The running share of the rays reaching a track's model that its good fits explain.

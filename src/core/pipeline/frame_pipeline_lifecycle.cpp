@@ -21,6 +21,7 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   o.dispute_angle_rad = p.orientation_dispute_deg * M_PI / 180.0;
   o.disputes_to_contest = p.orientation_disputes;
   o.min_points = p.refiner.alignment.min_points, o.min_inlier_ratio = p.refiner.min_inlier_ratio;
+  o.fit_turn_gate = p.fit_turn_gate;
   return o;
 }
 
@@ -85,6 +86,13 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
   const Symmetry* symmetry = &catalog_->get(o.class_name).symmetry;
   const auto C_follow =
       diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  if (lo.fit_turn_gate > 0.0) {
+    const double d2 = t.filter.turnDistance2(
+        fit.T_world_object,
+        diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad), symmetry);
+    if (TurnGate::rejects(t.life.state, e.child, fit.quality.status, d2, lo))
+      e.fit.status = o.quality.status = RefineStatus::kImplausibleTurn;
+  }
   switch (useOfFit(t.life, e, lo)) {
     case FitUse::kPlace:  // the next frame refines from the weak fit
       t.filter = PoseFilter(fit.T_world_object, C_follow, options_.motion);
@@ -131,7 +139,9 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
         tracks_[k].life.state != TrackState::kTentative)
       coasting.push_back(k);
   if (!coasting.empty()) scene_.commit();
-  for (std::size_t k : coasting) evidence[k].absence_seen = seesAbsence(k, sets);
+  for (std::size_t k : coasting)
+    evidence[k].absence_seen =
+        seesAbsence(k, sets) && !(options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets));
   for (std::size_t k : order)
     evidence[k].sunk =
         !evidence[k].child && sunkIntoMap(tracks_[k].out.class_name, tracks_[k].out.T_map_object);

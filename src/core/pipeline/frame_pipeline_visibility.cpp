@@ -4,6 +4,8 @@
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/registration/ray_regions.hpp"
+#include "scene_graph_tracker/relations/oriented_box.hpp"
+#include "scene_graph_tracker/relations/support_rays.hpp"
 
 namespace sgt {
 
@@ -70,6 +72,32 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, true);
   scene_.commit();
   return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
+}
+
+bool FramePipeline::dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets) {
+  Track& t = tracks_[k];
+  relations::SupportOptions below_options;
+  below_options.max_gap = options_.unseen_drop_m;
+  const Eigen::AlignedBox3d box = catalog_->get(t.out.class_name).box.cast<double>();
+  const relations::Support below = relations::supportBelow(
+      scene_, relations::orientedBox(box, t.out.T_map_object), t.out.node, below_options);
+  if (below.node == kNoNode || !(below.gap > 0.0)) return false;
+  const Eigen::Isometry3d where = t.out.T_map_object;
+  Eigen::Isometry3d dropped = where;
+  dropped.translation().z() -= below.gap;
+  scene_.setInstancePose(t.out.node, dropped);
+  scene_.commit();
+  if (seesAbsence(k, sets)) {  // missing there too
+    scene_.setInstancePose(t.out.node, where);
+    scene_.commit();
+    return false;
+  }
+  t.out.T_map_object = dropped;
+  t.filter = PoseFilter(
+      dropped, diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
+      options_.motion);
+  graph_.setWorldTransform(t.out.node, dropped);
+  return true;
 }
 
 bool FramePipeline::sunkIntoMap(const std::string& class_name,

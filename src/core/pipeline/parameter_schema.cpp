@@ -227,6 +227,9 @@ Schema<T> removalParams() {
                 "(1: off; needs an outward-wound map)"),
       number<T>("sink_tolerance_m", kRemoval, PIPE(sink_tolerance_m), 0.0, 0.5, "m", kRuntime,
                 "depth behind the map surface that counts as sunk"),
+      number<T>("unseen_drop_m", kRemoval, PIPE(unseen_drop_m), 0.0, 0.5, "m", kRuntime,
+                "a coasting track seen missing where it is drops straight down by up to this onto "
+                "what lies below it, and stays there if it cannot be seen missing there (0: off)"),
       number<T>("max_hidden_fraction_for_absence", kRemoval, PIPE(max_hidden_fraction_for_absence),
                 0.0, 1.0, "", kRuntime,
                 "when other tracks hide more of the rays reaching a track, the rest are no "
@@ -268,6 +271,9 @@ Schema<T> filterParams() {
       number<T>("fit_point_sigma_m", kFilter, PIPE(fit_point_sigma_m), 0.0, 1.0, "m", kRuntime,
                 "noise of one depth point along its normal: a fit is weaker in the directions its "
                 "rays leave unconstrained (0: off)"),
+      number<T>("fit_turn_gate", kFilter, PIPE(fit_turn_gate), 0.0, 1e6, "", kRuntime,
+                "a fit of a confirmed or lost track turned beyond this chi-square bound (3 dof) of "
+                "its predicted rotation is not taken: the track coasts (0: off; 16.27: 99.9 %)"),
   };
 }
 

@@ -22,6 +22,8 @@ const char* toString(RefineStatus s) {
       return "degenerate (planar or collinear points)";
     case RefineStatus::kFalseHypothesis:
       return "false hypothesis (few inliers)";
+    case RefineStatus::kImplausibleTurn:
+      return "implausible turn (beyond the track's motion gate)";
   }
   return "?";
 }

@@ -83,6 +83,13 @@ double PoseFilter::distance2(const Eigen::Isometry3d& T, const Mat6& cov,
   return r.dot((poseCovariance() + cov).ldlt().solve(r));
 }
 
+double PoseFilter::turnDistance2(const Eigen::Isometry3d& T, const Mat6& cov,
+                                 const Symmetry* symmetry) const {
+  const Eigen::Vector3d r = innovation(T, symmetry).tail<3>();
+  const Eigen::Matrix3d S = P_.block<3, 3>(6, 6) + cov.bottomRightCorner<3, 3>();
+  return r.dot(S.ldlt().solve(r));
+}
+
 double PoseFilter::update(const Eigen::Isometry3d& T, const Mat6& cov, const Symmetry* symmetry) {
   const Eigen::Matrix<double, 6, 1> r = innovation(T, symmetry);
   Eigen::Matrix<double, 6, 12> H = Eigen::Matrix<double, 6, 12>::Zero();

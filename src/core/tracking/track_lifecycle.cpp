@@ -67,6 +67,12 @@ bool LostTrackResume::rejects(const TrackLife& life, const TrackEvidence& e,
           e.fit.inlier_ratio < o.lost_track_resume_inlier_ratio);
 }
 
+bool TurnGate::rejects(TrackState state, bool child, RefineStatus fit, double turn_distance2,
+                       const LifecycleOptions& o) {
+  return o.fit_turn_gate > 0.0 && state != TrackState::kTentative && !child &&
+         fit == RefineStatus::kOk && turn_distance2 > o.fit_turn_gate;
+}
+
 double FitSupport::next(double support, double inlier_ratio, const LifecycleOptions& o) {
   return support < 0.0 ? inlier_ratio : support + o.fit_support_weight * (inlier_ratio - support);
 }
