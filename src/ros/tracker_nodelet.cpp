@@ -148,6 +148,12 @@ void TrackerNodelet::initialize() {
   cloud_sub_ = nh.subscribe("points", 2, &TrackerNodelet::onCloud, this);
   scan_sub_ = nh.subscribe("scan", 2, &TrackerNodelet::onLaserScan, this);
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
+  hypothesis_wait_ = std::make_unique<HypothesisWait>(p.node.hypothesis_max_wait);
+  if (p.node.hypothesis_max_wait > 0.0)
+    hypothesis_wait_timer_ = nh.createWallTimer(
+        ::ros::WallDuration(p.node.hypothesis_max_wait / 2), [this](const ::ros::WallTimerEvent&) {
+          processAll(hypothesis_wait_->expired(::ros::WallTime::now()));
+        });
   // Run-time parameters start from the values loaded above (config/tracker.yaml).
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<scene_graph_tracker::TrackerConfig>>(
       reconfigure_mutex_, pnh);
@@ -187,12 +193,26 @@ void TrackerNodelet::onLaserScan(const sensor_msgs::LaserScanConstPtr& scan) {
 }
 
 void TrackerNodelet::onHypotheses(const scene_graph_tracker::PoseHypothesisArrayConstPtr& msg) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  assembler_->addHypotheses(msg);
+  if (!msg) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    assembler_->addHypotheses(msg);
+  }
+  processAll(hypothesis_wait_->addHypotheses(msg->header.stamp, ::ros::WallTime::now()));
 }
 
 void TrackerNodelet::onDepth(const sensor_msgs::ImageConstPtr& depth,
                              const sensor_msgs::CameraInfoConstPtr& info) {
+  processAll(hypothesis_wait_->addDepth({depth, info}, ::ros::WallTime::now()));
+}
+
+void TrackerNodelet::processAll(const std::vector<DepthFrame>& frames) {
+  for (const DepthFrame& f : frames) processDepth(f);
+}
+
+void TrackerNodelet::processDepth(const DepthFrame& f) {
+  const sensor_msgs::ImageConstPtr& depth = f.image;
+  const sensor_msgs::CameraInfoConstPtr& info = f.info;
   waitForTransforms(*depth);
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.frames_in;
@@ -424,7 +444,9 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
                                {"hypotheses_duplicate", c.hypotheses_duplicate},
                                {"depth_received", depth_sub_.received()},
                                {"depth_lost_before", depth_sub_.lost()},
-                               {"depth_superseded", depth_sub_.superseded()}})
+                               {"depth_superseded", depth_sub_.superseded()},
+                               {"depth_waited_for_hypotheses", hypothesis_wait_->waited()},
+                               {"depth_waited_in_vain", hypothesis_wait_->waitedInVain()}})
     kv(key, std::to_string(n));
   if (r) {
     kv("objects", std::to_string(r->objects.size()));

@@ -288,6 +288,38 @@ TEST(OrientationDispute, DetectionsTurnedAwayInARowContestTheOrientationAndOneAg
   EXPECT_FALSE(OrientationDispute::contested(100, off));
 }
 
+// The gate is the filter's predicted position noise plus the detection's: here 1 cm and 2 cm,
+// so the 99.9 % bound lies at sqrt(16.27 * 5e-4) = 9.0 cm whatever the detection's turn.
+TEST(PositionDispute, DetectionsPlacedBeyondTheTracksGateInARowContestItsPosition) {
+  const PoseFilter filter(Eigen::Isometry3d::Identity(), diagonalCovariance(0.01, 0.05));
+  const auto C = diagonalCovariance(0.02, 0.08);
+  const auto at = [](double x, double turn) {
+    Eigen::Isometry3d T(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()));
+    T.translation() = Eigen::Vector3d(x, 0.0, 0.0);
+    return T;
+  };
+  const double far = filter.shiftDistance2(at(0.10, 0.0), C),
+               near = filter.shiftDistance2(at(0.08, 0.0), C);
+  EXPECT_GT(far, PositionDispute::kGate);
+  EXPECT_LT(near, PositionDispute::kGate);
+  EXPECT_DOUBLE_EQ(filter.shiftDistance2(at(0.08, M_PI / 2), C), near);  // the turn does not count
+  LifecycleOptions on = kOptions;
+  on.position_disputes_to_contest = 3;  // off by default (a candidate)
+  int disputes = 0;
+  for (int i = 1; i < on.position_disputes_to_contest; ++i) {
+    disputes = PositionDispute::next(disputes, far, on);
+    EXPECT_FALSE(PositionDispute::contested(disputes, on)) << i;
+  }
+  EXPECT_EQ(PositionDispute::next(disputes, near, on), 0);  // one agrees: start over
+  for (int i = 0; i < on.position_disputes_to_contest; ++i)
+    disputes = PositionDispute::next(disputes, far, on);
+  EXPECT_TRUE(PositionDispute::contested(disputes, on));
+  LifecycleOptions off = on;
+  off.position_disputes_to_contest = 0;
+  EXPECT_EQ(PositionDispute::next(5, far, off), 0);
+  EXPECT_FALSE(PositionDispute::contested(100, off));
+}
+
 TEST(DetectionAssociation, GatesAndRestarts) {
   EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions),
                    kOptions.association_distance);

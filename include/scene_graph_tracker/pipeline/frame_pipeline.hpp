@@ -129,8 +129,14 @@ class FramePipeline {
     // A lost track's filter when a detection restarted it: the restart contest weighs its pose
     // against the detection's.
     std::optional<PoseFilter> before_restart = std::nullopt;
-    // The latest detection once detections contest the track's orientation (OrientationDispute).
-    std::optional<Eigen::Isometry3d> contested_by = std::nullopt;
+    // The pose the latest detection proposes once detections contest the track's orientation
+    // (OrientationDispute: the detection's pose) or position (PositionDispute: the track's pose
+    // moved to the detection's position, whose orientation is then searched if it wins).
+    struct Contest {
+      Eigen::Isometry3d pose;
+      bool search_orientation = false;
+    };
+    std::optional<Contest> contested_by = std::nullopt;
   };
   // Stages of process().
   void localize(PipelineFrame& frame, PipelineResult& out);

@@ -68,6 +68,7 @@ struct TrackerNodeOptions {
   std::string localization = "own";
   bool publish_object_tf = false;
   double hypothesis_max_age = 0.1;
+  double hypothesis_max_wait = 0.3;     // s, wall time (ros/hypothesis_wait.hpp)
   double max_time_jitter = 1.0;         // s (ros/stamp_order.hpp)
   std::string depth_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
   std::string static_map;               // required: the static world as a mesh or URDF
@@ -93,7 +94,7 @@ struct DetectorParameters {
   std::string image_transport = "raw";  // raw, compressed, compressedDepth (ros/image_input.hpp)
   std::string depth_transport = "raw";
   double depth_max_offset = 0.02;
-  double depth_max_wait = 0.0;
+  double depth_max_wait = 0.3;
   std::string model = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
   std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;

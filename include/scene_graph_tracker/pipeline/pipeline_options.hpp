@@ -130,6 +130,10 @@ struct PipelineOptions {
   // in a row make the detection's pose compete with the track's (0: off).
   double orientation_dispute_deg = 30.0;
   int orientation_disputes = 3;
+  // Position disputes (PositionDispute): this many hypotheses in a row placed beyond the 99.9 %
+  // bound of the track's predicted position make the track's pose moved to the detection's
+  // position compete with the track's (0: off).
+  int position_disputes = 0;
   // A detection that restarts a track (its fit failed) outside the filter's 99.9 % gate replaces
   // the filter's belief instead of being averaged with it: an object turned in a hand is where
   // the detection sees it, not half-way.

@@ -9,7 +9,7 @@
 // or compressedDepth: depth_transport) — and each
 // accepted pose gets its distance from the depth image closest in time (within
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
-// (detection/depth_translation.hpp). With `depth_max_wait` > 0 (default 0) an RGB image whose
+// (detection/depth_translation.hpp). With `depth_max_wait` > 0 (default 0.3 s) an RGB image whose
 // depth image may still come waits for it (ros/depth_pairing.hpp). Without such a depth image
 // the distance stays PnP's and the nodelet warns. Parameters: the parameter schema
 // (pipeline/parameter_schema.hpp), config/detector.yaml, doc/parameters.md; read at start. Bad

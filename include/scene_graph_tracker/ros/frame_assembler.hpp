@@ -7,6 +7,7 @@
 // - the pose hypotheses: the one array closest in time to the image within hypothesis_max_age (a
 //   detector emits one array per image; using every array in the window would count each object
 //   several times), moved into the base frame; arrays up to the image's stamp are then dropped.
+//   (The nodelet holds an image until its own array came: ros/hypothesis_wait.hpp.)
 // The camera's ray model comes from its CameraInfo. A cloud organized as the configured LiDAR grid
 // (options) uses that grid's rays; any other cloud, and a laser scan, one ray per return
 // (conversions.hpp).

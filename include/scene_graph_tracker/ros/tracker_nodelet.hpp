@@ -44,6 +44,7 @@
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/ros/frame_assembler.hpp"
+#include "scene_graph_tracker/ros/hypothesis_wait.hpp"
 #include "scene_graph_tracker/ros/image_input.hpp"
 #include "scene_graph_tracker/ros/stamp_order.hpp"
 #include "scene_graph_tracker/ros/track_id_store.hpp"
@@ -64,6 +65,8 @@ class TrackerNodelet : public nodelet::Nodelet {
 
   void onDepth(const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::CameraInfoConstPtr& info);
+  void processAll(const std::vector<DepthFrame>& frames);  // in order; each as processDepth
+  void processDepth(const DepthFrame& frame);
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onLaserScan(const sensor_msgs::LaserScanConstPtr& scan);
   void onUndecodable(const std::string& text);
@@ -95,6 +98,8 @@ class TrackerNodelet : public nodelet::Nodelet {
 
   std::unique_ptr<FramePipeline> pipeline_;
   std::unique_ptr<FrameAssembler> assembler_;
+  std::unique_ptr<HypothesisWait> hypothesis_wait_;  // depth frames until their detections came
+  ::ros::WallTimer hypothesis_wait_timer_;
   std::mutex mutex_;  // pipeline_ and assembler_
   std::string map_frame_, odom_frame_, base_frame_;
   bool publish_map_odom_{}, publish_object_tf_{};  // params::TrackerNodeOptions (onInit)

@@ -52,6 +52,8 @@ class PoseFilter {
   // full 6x6 one, of which its rotation block counts.
   double turnDistance2(const Eigen::Isometry3d& T, const Mat6& covariance,
                        const Symmetry* symmetry = nullptr) const;
+  // The same for the position alone (3 degrees of freedom; its translation block counts).
+  double shiftDistance2(const Eigen::Isometry3d& T, const Mat6& covariance) const;
 
   Eigen::Isometry3d pose() const;
   const Eigen::Vector3d& velocity() const { return v_; }

@@ -37,9 +37,10 @@ struct LifecycleOptions {
   double orientation_search_interval_s;
   double dispute_angle_rad;  // a hypothesis turned farther than this from the track disputes it
   int disputes_to_contest;   // consecutive disputing hypotheses that contest the orientation
-  int min_points;            // the refiner's alignment.min_points: a fit needs this many
-  double min_inlier_ratio;   // the refiner's: below it a fit explains nothing there
-  double fit_turn_gate;      // chi-square bound (3 dof) on a fit's turn from the prediction; 0: off
+  int position_disputes_to_contest;  // the same for hypotheses placed beyond the track's gate
+  int min_points;                    // the refiner's alignment.min_points: a fit needs this many
+  double min_inlier_ratio;           // the refiner's: below it a fit explains nothing there
+  double fit_turn_gate;  // chi-square bound (3 dof) on a fit's turn from the prediction; 0: off
 };
 
 // What a track knows of its own history.
@@ -53,6 +54,7 @@ struct TrackLife {
   double last_hypothesis = 0.0;
   double last_orientation_search = -1e9;
   int orientation_disputes = 0;  // consecutive associated hypotheses turned away from the track
+  int position_disputes = 0;     // consecutive associated hypotheses placed away from it
 };
 
 // What one frame says about a track.
@@ -147,6 +149,21 @@ struct OrientationReSearch {
 // new evidence can get it out, and the detector sees the object's appearance, not its depth.
 struct OrientationDispute {
   static int next(int disputes, double angle_rad, const LifecycleOptions& o);
+  static bool contested(int disputes, const LifecycleOptions& o);
+};
+
+// Detections that keep seeing a track elsewhere contest its position: a hypothesis whose position
+// lies beyond the 99.9 % bound of the track's predicted position (squared Mahalanobis distance
+// `shift_distance2`, the filter's and the detection's noise) disputes it; after
+// position_disputes_to_contest of them in a row the track's pose and the same pose moved to the
+// latest detection's position are refined briefly on the measurements and the better explained
+// one goes on (the track's wins ties; a moved track then searches its orientation). A track started
+// from a poor detection can settle on the edge of its object or of a neighbour with fits good
+// enough to go on: the refinement is local, and the detections that see the object elsewhere are
+// the evidence that can move it.
+struct PositionDispute {
+  static constexpr double kGate = 16.27;  // 99.9 % of a chi-square with 3 degrees of freedom
+  static int next(int disputes, double shift_distance2, const LifecycleOptions& o);
   static bool contested(int disputes, const LifecycleOptions& o);
 };
 

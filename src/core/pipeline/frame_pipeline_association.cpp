@@ -105,12 +105,20 @@ double rotationDistance(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, cons
 }  // namespace
 
 void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {
+  const LifecycleOptions lo = lifecycleOptions();
   const double angle = rotationDistance(t.out.T_map_object.linear(), T_detected.linear(),
                                         catalog_->get(t.out.class_name).symmetry);
-  t.life.orientation_disputes =
-      OrientationDispute::next(t.life.orientation_disputes, angle, lifecycleOptions());
-  if (OrientationDispute::contested(t.life.orientation_disputes, lifecycleOptions()))
-    t.contested_by = T_detected;
+  t.life.orientation_disputes = OrientationDispute::next(t.life.orientation_disputes, angle, lo);
+  const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  t.life.position_disputes =
+      PositionDispute::next(t.life.position_disputes, t.filter.shiftDistance2(T_detected, C), lo);
+  if (OrientationDispute::contested(t.life.orientation_disputes, lo)) {
+    t.contested_by = Track::Contest{T_detected, false};
+  } else if (PositionDispute::contested(t.life.position_disputes, lo)) {
+    Eigen::Isometry3d moved = t.out.T_map_object;
+    moved.translation() = T_detected.translation();
+    t.contested_by = Track::Contest{moved, true};
+  }
 }
 
 bool FramePipeline::overlapsPlaced(const std::vector<PoseHypothesis>& hypotheses,

@@ -20,6 +20,7 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   o.orientation_search_interval_s = p.orientation_search_interval_s;
   o.dispute_angle_rad = p.orientation_dispute_deg * M_PI / 180.0;
   o.disputes_to_contest = p.orientation_disputes;
+  o.position_disputes_to_contest = p.position_disputes;
   o.min_points = p.refiner.alignment.min_points, o.min_inlier_ratio = p.refiner.min_inlier_ratio;
   o.fit_turn_gate = p.fit_turn_gate;
   return o;

@@ -44,17 +44,18 @@ void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, d
   bool contested = false;
   for (Track& t : tracks_) {
     if (!t.contested_by) continue;
-    const Eigen::Isometry3d detected = *t.contested_by;
+    const Track::Contest contest = *t.contested_by;
     t.contested_by.reset();
-    t.life.orientation_disputes = 0;
-    if (stamp - t.life.last_orientation_search < options_.orientation_search_interval_s) continue;
+    t.life.orientation_disputes = t.life.position_disputes = 0;
+    const double last_search = t.life.last_orientation_search;
+    if (stamp - last_search < options_.orientation_search_interval_s) continue;
     t.life.last_orientation_search = stamp;
     contested = true;
     const ObjectClass& c = catalog_->get(t.out.class_name);
     // The track first: it wins ties. A keypoint detector confuses an object with its turned twin
     // consistently (the shipped one turns the multimeter and the material box by half a turn),
     // so a detection turns a track only where the depth supports it.
-    const std::vector<Eigen::Isometry3d> candidates{t.out.T_map_object, detected};
+    const std::vector<Eigen::Isometry3d> candidates{t.out.T_map_object, contest.pose};
     const OrientationChoice choice = chooseOrientation(
         scene_, {t.out.node, &c.symmetry}, candidates, sets, options_.orientation_refiner, prior);
     if (choice.candidate == 1) {
@@ -63,6 +64,10 @@ void FramePipeline::settleDisputes(const std::vector<RangeMeasurements>& sets, d
           PoseFilter(choice.T_world_object,
                      diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad),
                      options_.motion);
+      if (contest.search_orientation) {  // its turn was held beside the object: search it here
+        t.life.last_orientation_search = last_search;
+        needs_orientation_.push_back(t.out.id);
+      }
     }
     // Refinement goes on from the winner as it was, not as the contest's few rounds left it.
     scene_.setInstancePose(t.out.node, t.out.T_map_object);

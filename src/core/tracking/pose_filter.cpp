@@ -90,6 +90,12 @@ double PoseFilter::turnDistance2(const Eigen::Isometry3d& T, const Mat6& cov,
   return r.dot(S.ldlt().solve(r));
 }
 
+double PoseFilter::shiftDistance2(const Eigen::Isometry3d& T, const Mat6& cov) const {
+  const Eigen::Vector3d r = T.translation() - p_;
+  const Eigen::Matrix3d S = P_.block<3, 3>(0, 0) + cov.topLeftCorner<3, 3>();
+  return r.dot(S.ldlt().solve(r));
+}
+
 double PoseFilter::update(const Eigen::Isometry3d& T, const Mat6& cov, const Symmetry* symmetry) {
   const Eigen::Matrix<double, 6, 1> r = innovation(T, symmetry);
   Eigen::Matrix<double, 6, 12> H = Eigen::Matrix<double, 6, 12>::Zero();

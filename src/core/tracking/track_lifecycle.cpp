@@ -114,6 +114,14 @@ bool OrientationDispute::contested(int disputes, const LifecycleOptions& o) {
   return o.disputes_to_contest > 0 && disputes >= o.disputes_to_contest;
 }
 
+int PositionDispute::next(int disputes, double shift_distance2, const LifecycleOptions& o) {
+  return o.position_disputes_to_contest > 0 && shift_distance2 > kGate ? disputes + 1 : 0;
+}
+
+bool PositionDispute::contested(int disputes, const LifecycleOptions& o) {
+  return o.position_disputes_to_contest > 0 && disputes >= o.position_disputes_to_contest;
+}
+
 double SunkInMap::since(double sunk_since, bool child, bool sunk, double stamp) {
   return absentSince(sunk_since, !child && sunk, stamp);
 }
