@@ -88,8 +88,12 @@ TEST(LostTrackResume, RejectsAFarOrPartialFitUntilADetectionRestartsIt) {
 TEST(TurnGate, AnEstablishedTrackCoastsThroughAFitTurnedBeyondTheGate) {
   LifecycleOptions on = kOptions;
   on.fit_turn_gate = 16.27;
-  const auto rejects = [&](TrackState s, bool child, RefineStatus fit, double d2) {
-    return TurnGate::rejects(s, child, fit, d2, on);
+  // A track whose fits have explained 95 % of their rays; the turned fit explains 60 %.
+  const auto rejects = [&](TrackState s, bool child, RefineStatus status, double d2,
+                           double ratio = 0.6) {
+    TrackLife life = confirmedLife(0.9);
+    life.state = s;
+    return TurnGate::rejects(life, child, fit(status, 120, ratio), d2, on);
   };
   EXPECT_TRUE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 17.0));
   EXPECT_TRUE(rejects(TrackState::kLost, false, RefineStatus::kOk, 17.0));
@@ -97,9 +101,12 @@ TEST(TurnGate, AnEstablishedTrackCoastsThroughAFitTurnedBeyondTheGate) {
   EXPECT_FALSE(rejects(TrackState::kTentative, false, RefineStatus::kOk, 1e6));   // not established
   EXPECT_FALSE(rejects(TrackState::kConfirmed, true, RefineStatus::kOk, 1e6));    // a child
   EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kTooFewPoints, 1e6));
+  // A turned fit that explains more of its rays than the track's fits did corrects the track.
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 1e6, 0.99));
   LifecycleOptions off = on;
   off.fit_turn_gate = 0.0;
-  EXPECT_FALSE(TurnGate::rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 1e6, off));
+  EXPECT_FALSE(
+      TurnGate::rejects(confirmedLife(0.9), false, fit(RefineStatus::kOk, 120, 0.6), 1e6, off));
   // A rejected fit is no good fit: a confirmed track coasts and is lost.
   TrackEvidence e = goodFit(1.0);
   e.fit.status = RefineStatus::kImplausibleTurn;

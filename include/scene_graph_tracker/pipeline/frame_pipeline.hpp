@@ -173,6 +173,9 @@ class FramePipeline {
   TrackEvidence applyFit(std::size_t k, const ObjectEstimate& fit,
                          const std::vector<RangeMeasurements>& sets, double stamp,
                          const LifecycleOptions& lo);
+  // TurnGate on this frame's fit (e.fit) at T_fit.
+  bool turnedBeyondGate(const Track& t, const TrackEvidence& e, const Eigen::Isometry3d& T_fit,
+                        const LifecycleOptions& lo) const;
   void gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
                            const std::vector<std::size_t>& order,
                            const std::vector<RangeMeasurements>& sets);

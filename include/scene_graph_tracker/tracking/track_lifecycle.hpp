@@ -102,9 +102,11 @@ struct LostTrackResume {
 // good fit whose rotation lies beyond fit_turn_gate of its predicted one (squared Mahalanobis
 // distance `turn_distance2`, prediction and fit noise): the motion model says the object cannot
 // have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
+// Unless the turned fit explains a larger share of its rays than the track's fits have (its fit
+// support): then the track was the wrong one (confirmed in a wrong turn) and the fit corrects it.
 struct TurnGate {
-  static bool rejects(TrackState state, bool child, RefineStatus fit, double turn_distance2,
-                      const LifecycleOptions& o);
+  static bool rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
+                      double turn_distance2, const LifecycleOptions& o);
 };
 
 // The running share of the rays reaching a track's model that its good fits explain.

@@ -73,6 +73,16 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     if (remove[k]) dropped.push_back(tracks_[k].out.id), dropTrack(k);
 }
 
+bool FramePipeline::turnedBeyondGate(const Track& t, const TrackEvidence& e,
+                                     const Eigen::Isometry3d& T_fit,
+                                     const LifecycleOptions& lo) const {
+  if (lo.fit_turn_gate <= 0.0) return false;
+  const double d2 = t.filter.turnDistance2(
+      T_fit, diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad),
+      &catalog_->get(t.out.class_name).symmetry);
+  return TurnGate::rejects(t.life, e.child, e.fit, d2, lo);
+}
+
 TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
                                       const std::vector<RangeMeasurements>& sets, double stamp,
                                       const LifecycleOptions& lo) {
@@ -87,13 +97,8 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
   const Symmetry* symmetry = &catalog_->get(o.class_name).symmetry;
   const auto C_follow =
       diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
-  if (lo.fit_turn_gate > 0.0) {
-    const double d2 = t.filter.turnDistance2(
-        fit.T_world_object,
-        diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad), symmetry);
-    if (TurnGate::rejects(t.life.state, e.child, fit.quality.status, d2, lo))
-      e.fit.status = o.quality.status = RefineStatus::kImplausibleTurn;
-  }
+  if (turnedBeyondGate(t, e, fit.T_world_object, lo))
+    e.fit.status = o.quality.status = RefineStatus::kImplausibleTurn;
   switch (useOfFit(t.life, e, lo)) {
     case FitUse::kPlace:  // the next frame refines from the weak fit
       t.filter = PoseFilter(fit.T_world_object, C_follow, options_.motion);

@@ -67,10 +67,11 @@ bool LostTrackResume::rejects(const TrackLife& life, const TrackEvidence& e,
           e.fit.inlier_ratio < o.lost_track_resume_inlier_ratio);
 }
 
-bool TurnGate::rejects(TrackState state, bool child, RefineStatus fit, double turn_distance2,
-                       const LifecycleOptions& o) {
-  return o.fit_turn_gate > 0.0 && state != TrackState::kTentative && !child &&
-         fit == RefineStatus::kOk && turn_distance2 > o.fit_turn_gate;
+bool TurnGate::rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
+                       double turn_distance2, const LifecycleOptions& o) {
+  return o.fit_turn_gate > 0.0 && life.state != TrackState::kTentative && !child &&
+         fit.status == RefineStatus::kOk && turn_distance2 > o.fit_turn_gate &&
+         fit.inlier_ratio <= life.fit_support;
 }
 
 double FitSupport::next(double support, double inlier_ratio, const LifecycleOptions& o) {
