@@ -129,7 +129,7 @@ Schema<T> nodeParams() {
       number<T>("hypothesis_max_age", kNode, NODE(hypothesis_max_age), 0.0, 10.0, "s", kStart,
                 "the hypothesis array closest to a depth image within this is used with it"),
       number<T>("hypothesis_max_wait", kNode, NODE(hypothesis_max_wait), 0.0, 5.0, "s", kStart,
-                "how long a depth image waits for the detector's array of its image while that "
+                "how long a depth image waits for the hypothesis array of its image while that "
                 "may still come (wall time; then it goes on with what came); 0: never waits"),
       number<T>("max_time_jitter", kNode, NODE(max_time_jitter), 0.0, 3600.0, "s", kStart,
                 "an image older than the last by up to this is dropped; by more, the tracks reset"),
@@ -341,9 +341,9 @@ Schema<T> orientationParams() {
                 "disputing hypotheses in a row that make the pose of the detection compete with "
                 "that of the track, both refined on the measurements (0: off)"),
       number<T>("position_disputes", kRefinement, PIPE(position_disputes), 0, 1000, "", kRuntime,
-                "hypotheses in a row placed beyond the 99.9 % bound of a track's predicted "
-                "position that make the track's pose, moved to the detection, compete with it, "
-                "both refined on the measurements (0: off)"),
+                "hypotheses in a row placed beyond the 99.9 % bound of the predicted position "
+                "of a track that make its pose, moved to the detection, compete with it, both "
+                "refined on the measurements (0: off)"),
       number<T>("orientation_refine/rounds", kRefinement, PIPE(orientation_refiner.rounds), 1, 30,
                 "", kRuntime, "ray-casting rounds per candidate of a search or restart contest"),
       number<T>("orientation_refine/steps", kRefinement, PIPE(orientation_refiner.steps), 1, 20, "",
