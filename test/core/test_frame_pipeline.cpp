@@ -391,7 +391,7 @@ std::pair<double, bool> multimeterLetGoIntoTheKlt(double unseen_drop_m) {
 }
 
 TEST(FramePipeline, ATrackSeenMissingWhereItHoversDropsOutOfSightAndStays) {
-  const auto [error, hidden] = multimeterLetGoIntoTheKlt(0.3);
+  const auto [error, hidden] = multimeterLetGoIntoTheKlt(PipelineOptions().unseen_drop_m);
   ASSERT_TRUE(hidden) << "the crate must hide the multimeter (else no test)";
   EXPECT_LT(error, 0.02) << "m, the track in the crate";
   EXPECT_EQ(multimeterLetGoIntoTheKlt(0.0).first, std::numeric_limits<double>::infinity())

@@ -86,8 +86,9 @@ struct PipelineOptions {
   // this chi-square bound (3 dof) of the track's predicted rotation plus the fit's noise is no
   // measurement of the object: a partly hidden object's few rays (a rim, one face) let the
   // refiner spin or tip it by tens of degrees in a frame. The track coasts instead, and the next
-  // detection restarts it. 0: off; 16.27 is the 99.9 % bound.
-  double fit_turn_gate = 0.0;
+  // detection restarts it; unless the fit explains a larger share of its rays than the track's
+  // fits have (then the track was wrong). 0: off; 16.27 is the 99.9 % bound.
+  double fit_turn_gate = 16.27;
   // Evidence of absence needs most of a confirmed object in view: when other tracked objects
   // cover more than this fraction of the rays that would reach it without them, the few rays
   // left (which graze the occluder and miss a track only a little off) are no evidence and the
@@ -96,7 +97,7 @@ struct PipelineOptions {
   // A coasting track the sensors see missing where it is drops straight down by up to this onto
   // what lies below it, and stays there when they cannot see it missing there: an object let go
   // into a container vanishes below its rim before it reaches the floor. 0: off.
-  double unseen_drop_m = 0.0;
+  double unseen_drop_m = 0.3;
   // A lost track ignores fits farther than this from where it was lost, or explaining less than
   // this fraction of the rays that reach it, until a hypothesis restarts it (associate():
   // reacquire_distance); such fits are no evidence of absence either.
