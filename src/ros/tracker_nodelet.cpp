@@ -121,6 +121,8 @@ void TrackerNodelet::initialize() {
       catalog->size(), catalog_path.c_str(), map_path.c_str(), map->triangleCount(),
       pipeline_->furniture().size());
 
+  // Before any subscription: a callback may come before onInit returns.
+  hypothesis_wait_ = std::make_unique<HypothesisWait>(p.node.hypothesis_max_wait);
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>(::ros::Duration(30.0));
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   stamps_ = StampOrder(p.node.max_time_jitter);
@@ -148,7 +150,6 @@ void TrackerNodelet::initialize() {
   cloud_sub_ = nh.subscribe("points", 2, &TrackerNodelet::onCloud, this);
   scan_sub_ = nh.subscribe("scan", 2, &TrackerNodelet::onLaserScan, this);
   hypotheses_sub_ = nh.subscribe("pose_hypotheses", 10, &TrackerNodelet::onHypotheses, this);
-  hypothesis_wait_ = std::make_unique<HypothesisWait>(p.node.hypothesis_max_wait);
   if (p.node.hypothesis_max_wait > 0.0)
     hypothesis_wait_timer_ = nh.createWallTimer(
         ::ros::WallDuration(p.node.hypothesis_max_wait / 2), [this](const ::ros::WallTimerEvent&) {
