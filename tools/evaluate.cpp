@@ -337,6 +337,7 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;
   report_.addFrame(r.stamp, r.times);
+  report_.addDepthNoise(r.noise.depth_sigma_at_1m);
   fitTracks(bf, r);
   if (bf.truth) score(bf, r);
 }

@@ -256,7 +256,10 @@ std::string EvaluationReport::json() const {
     << ",\n    \"precision\": " << jsonNumber(ratio(labels_.tp, labels_.tp + labels_.fp))
     << ",\n    \"recall\": " << jsonNumber(ratio(labels_.tp, labels_.tp + labels_.fn))
     << ",\n    \"lidar_valid_points\": " << labels_.lidar_valid
-    << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown << "\n  },\n";
+    << ",\n    \"lidar_unknown_points\": " << labels_.lidar_unknown << "\n  },\n"
+    << "  \"sensors\": {\n    \"depth_sigma_at_1m_median\": "
+    << jsonNumber(depth_sigma_at_1m_.empty() ? NAN : quantile(depth_sigma_at_1m_, 0.5))
+    << "\n  },\n";
   if (relation_frames_ > 0)
     o << "  \"relations\": {\n    \"precision\": "
       << jsonNumber(ratio(relations_.tp, relations_.tp + relations_.fp))

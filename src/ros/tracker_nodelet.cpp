@@ -455,6 +455,7 @@ void TrackerNodelet::publishDiagnostics(const std::string& problem, const Pipeli
     kv("heap_in_use_mb", std::to_string(heap.in_use_mb));
     kv("heap_free_held_mb", std::to_string(heap.free_held_mb));
     kv("frame_ms", std::to_string(r->times.total_ms));
+    kv("depth_sigma_at_1m_mm", std::to_string(1000.0 * r->noise.depth_sigma_at_1m));
     if (external_localization_)
       kv("localized", external_pose_ok_ ? "yes (external)" : "no (no map to odom in TF)");
     else

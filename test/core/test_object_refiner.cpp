@@ -120,6 +120,35 @@ TEST(ObjectRefiner, OneObjectFromThreeCentimetresTenDegrees) {
   }
 }
 
+// A multimeter 2.3 m away in depth noise of 4.5 mm at 1 m (24 mm there): most of its correct
+// returns lie beyond the fixed 12 mm threshold, so the fit explains few of its rays; with the
+// thresholds widened to 3 noise sigmas it explains most of them and stays on the object.
+TEST(ObjectRefiner, ThresholdsThatFollowTheNoiseKeepAFarObjectsReturns) {
+  double ratio[2] = {0, 0};
+  for (int widened = 0; widened < 2; ++widened) {
+    Bench b;
+    b.T_world_camera = opticalLookAt({0.0, 2.0, 1.9}, {0.0, 0.0, 0.75});
+    b.add("multimeter", 0.0, 0.0, 0.4, 10);
+    b.scene.commit();
+    const SimulatedScan scan = simulate(b.scene, *b.rays, b.T_world_camera);
+    RangeMeasurements m =
+        fromDepthImage(b.camera, b.rays, depthImage(scan, *b.rays), b.T_world_camera);
+    addDepthNoise(m, 0.0045, 3);
+    b.perturbAll(0.01, 3.0, 3);
+    RefinerOptions o;
+    if (widened) o.noise.depth_sigma_at_1m = 0.0045f, o.noise_sigmas = 3.0f;
+    const ObjectEstimate e = ObjectRefiner(o).refine(b.scene, b.targets, {m}).objects.at(0);
+    ratio[widened] = e.quality.inlier_ratio;
+    if (!widened) continue;
+    EXPECT_EQ(e.quality.status, RefineStatus::kOk) << toString(e.quality.status);
+    EXPECT_LT(translationError(e, b.truth[0].second), 0.025);  // in noise of 24 mm
+    EXPECT_GT(e.quality.rms_of_threshold, 0.0);
+    EXPECT_LT(e.quality.rms_of_threshold, 0.6);  // Gaussian within 3 sigma: about 0.33 - 0.4
+  }
+  EXPECT_LT(ratio[0], 0.6) << "fixed thresholds";
+  EXPECT_GT(ratio[1], 0.85) << "widened to the noise";
+}
+
 // The information of the fit's pairs: symmetric, positive definite for a box seen from above and
 // the side, its translation part about inliers per unit normal; all zero when not asked for.
 TEST(ObjectRefiner, ReportsWhatItsPairsConstrainOnlyWhenAsked) {

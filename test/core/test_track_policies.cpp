@@ -13,6 +13,7 @@ const LifecycleOptions kOptions = lifecycleOptions(PipelineOptions{});  // the p
 ObjectQuality fit(RefineStatus status, int inliers, double inlier_ratio, int expected = 200) {
   ObjectQuality q;
   q.status = status, q.inliers = inliers, q.inlier_ratio = inlier_ratio, q.expected = expected;
+  q.close_ratio = inlier_ratio;  // no noise band
   return q;
 }
 
@@ -34,7 +35,7 @@ TrackLife confirmedLife(double stamp) {
   TrackLife life;
   life.state = TrackState::kConfirmed;
   life.hits = life.detections = 5;
-  life.fit_support = 0.95;
+  life.fit_support = life.fit_closeness = 0.95;
   life.last_hypothesis = stamp;
   return life;
 }
@@ -103,6 +104,10 @@ TEST(TurnGate, AnEstablishedTrackCoastsThroughAFitTurnedBeyondTheGate) {
   EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kTooFewPoints, 1e6));
   // A turned fit that explains more of its rays than the track's fits did corrects the track.
   EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 1e6, 0.99));
+  // ... closely: within the noise band alone (a far object in noisy depth) it does not.
+  ObjectQuality banded = fit(RefineStatus::kOk, 120, 0.99);
+  banded.close_ratio = 0.6;
+  EXPECT_TRUE(TurnGate::rejects(confirmedLife(0.9), false, banded, 1e6, on));
   LifecycleOptions off = on;
   off.fit_turn_gate = 0.0;
   EXPECT_FALSE(
@@ -258,7 +263,7 @@ TEST(SunkInMap, ATrackInsideTheMapGoesSeenOrNotButNotAChild) {
 
 TEST(OrientationReSearch, AConfirmedTrackExplainingTooLittleIsSearchedAgainAfterTheInterval) {
   TrackLife life = confirmedLife(0.0);
-  life.fit_support = 0.8;
+  life.fit_support = life.fit_closeness = 0.8;
   life.last_orientation_search = 0.0;
   EXPECT_FALSE(next(life, goodFit(1.0, 0.8), kOptions).search_orientation);  // too soon
   EXPECT_TRUE(next(life, goodFit(2.0, 0.8), kOptions).search_orientation);
@@ -266,8 +271,15 @@ TEST(OrientationReSearch, AConfirmedTrackExplainingTooLittleIsSearchedAgainAfter
   queued.queued_for_search = true;
   EXPECT_FALSE(next(life, queued, kOptions).search_orientation);
   TrackLife nearly = life;
-  nearly.fit_support = 0.89;
+  nearly.fit_support = nearly.fit_closeness = 0.89;
   EXPECT_FALSE(next(nearly, goodFit(2.0, 1.0), kOptions).search_orientation);  // support back up
+  // Far in noisy depth a turned track explains nearly all rays within the noise band, but few
+  // closely: its closeness decides.
+  TrackLife banded = life;
+  banded.fit_support = 0.99;
+  TrackEvidence close_few = goodFit(2.0, 0.99);
+  close_few.fit.close_ratio = 0.6;
+  EXPECT_TRUE(next(banded, close_few, kOptions).search_orientation);
   TrackEvidence child = goodFit(2.0, 0.8);
   child.child = true;
   EXPECT_FALSE(next(life, child, kOptions).search_orientation);

@@ -1,8 +1,8 @@
 // Accumulates per-frame results of the pipeline against ground truth and writes the evaluation
 // report: report.json (keys documented in the README: frames, objects.* (with false positives),
-// hypotheses.* (when any were scored), localization.*, presegmentation.*, relations.* (when
-// relations were scored), tracks.* (no ground truth needed), timing.*), report.md (tables) and
-// timeseries.csv (one row per frame, object, false positive and track, read by
+// hypotheses.* (when any were scored), localization.*, presegmentation.*, sensors.*, relations.*
+// (when relations were scored), tracks.* (no ground truth needed), timing.*), report.md (tables)
+// and timeseries.csv (one row per frame, object, false positive and track, read by
 // scripts/plot_report.py).
 #pragma once
 
@@ -51,6 +51,9 @@ class EvaluationReport {
   void addSurfaceFit(double stamp, const std::string& truth_id, std::optional<double> tracked_m,
                      std::optional<double> given_m);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
+  // The depth noise a frame was processed with (PipelineResult::noise): its median over the frames
+  // is sensors.depth_sigma_at_1m_median.
+  void addDepthNoise(double sigma_at_1m) { depth_sigma_at_1m_.push_back(sigma_at_1m); }
   void addPresegmentation(const UnknownLabelCounts& counts);
   // One frame's relation counts (evaluation/relation_score.hpp); `declared`: declarations in the
   // scenario.
@@ -83,6 +86,7 @@ class EvaluationReport {
     std::optional<double> loc_t, loc_r;
   };
   std::vector<FrameRow> frames_;
+  std::vector<double> depth_sigma_at_1m_;
   std::vector<ObjectRow> objects_;
   struct FalsePositiveRow {
     double stamp;

@@ -75,6 +75,7 @@ struct PipelineResult {
   LocalizeResult localization;
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
+  RangeNoise noise;  // the sensors' noise this frame was processed with (measured or configured)
   std::vector<TrackedObject> objects;  // after refinement (removed tracks are not listed)
   std::vector<std::string> dropped;    // ids removed this frame
   // Hypotheses left out by max_hypotheses_per_frame, max_tracks or max_tracks_per_class.
@@ -100,7 +101,7 @@ class FramePipeline {
   PipelineResult process(PipelineFrame frame);
 
   const PipelineOptions& options() const { return options_; }
-  void setOptions(const PipelineOptions& o) { options_ = o; }
+  void setOptions(const PipelineOptions& o);  // a changed noise setting restarts its measurement
   const ObjectCatalog& catalog() const { return *catalog_; }
   const SceneGraph& graph() const { return graph_; }
   const RaycastScene& scene() const { return scene_; }
@@ -140,6 +141,10 @@ class FramePipeline {
   };
   // Stages of process().
   void localize(PipelineFrame& frame, PipelineResult& out);
+  // The depth noise of this frame's images (measure_depth_noise), folded into noise_.
+  void measureNoise(const std::vector<RangeMeasurements>& sets);
+  // `r` with the sensors' noise (noise_) and the noise_sigmas of the track refiner's options.
+  RefinerOptions withSensorNoise(RefinerOptions r) const;
   std::vector<RangeMeasurements> localizationSets(const std::vector<RangeMeasurements>& sets) const;
   std::vector<RangeMeasurements> objectSets(const std::vector<RangeMeasurements>& sets) const;
   std::vector<PoseHypothesis> acceptedHypotheses(const std::vector<PoseHypothesis>& hypotheses,
@@ -224,6 +229,7 @@ class FramePipeline {
   std::vector<std::string> needs_orientation_;  // track ids confirmed or restarted: search next
   double last_stamp_ = -1.0;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
+  RangeNoise noise_;  // the configured noise, then what the frames measure
   NodeId map_node_ = kNoNode;
   std::vector<relations::Entity> furniture_;
   relations::RelationHysteresis hysteresis_;

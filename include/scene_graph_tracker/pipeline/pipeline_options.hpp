@@ -21,6 +21,10 @@ struct PipelineOptions {
   double pull_sigmas = 3.0;
   LocalizerOptions localizer;
   PresegmentOptions presegmentation;
+  // The depth images' noise (presegmentation.noise.depth_sigma_at_1m, which starts it) is measured
+  // on the static map in every frame (segmentation/depth_noise.hpp) and used by refinement,
+  // orientation search and pre-segmentation alike.
+  bool measure_depth_noise = true;
   PoseFilterNoise motion;
   bool localize = true;
   bool localize_with_lidar_only = true;  // depth images near a bench add little but cost rays
@@ -146,6 +150,7 @@ struct PipelineOptions {
   relations::HysteresisOptions relation_hysteresis;
   bool reparent = true;  // a track in / on another track becomes its child in the scene graph
   PipelineOptions() { refiner.full_resolution_last_round = false; }  // pre-segmentation assigns
+
   static RefinerOptions orientationRefinerDefaults() {
     RefinerOptions o;
     o.rounds = 3;

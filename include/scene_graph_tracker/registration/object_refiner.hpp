@@ -19,6 +19,7 @@
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
+#include "scene_graph_tracker/sensors/range_noise.hpp"
 
 namespace sgt {
 
@@ -48,6 +49,12 @@ struct RefinerOptions {
   float pull_radius = 0.04f;
   float pull_front_margin = 0.01f;
   int pull_point_to_point_rounds = 2;
+  // Which rays count as the object's (inliers, expected, assignment, no pulls): those within the
+  // round's threshold, widened per ray to noise_sigmas of the sensor's range noise where that is
+  // larger, so that a far object's correct returns stay its inliers (0: no widening). The fit
+  // itself moves the object by the pairs within the round's own threshold only.
+  float noise_sigmas = 0.0f;
+  RangeNoise noise;
   double min_inlier_ratio = 0.3;  // below it an object counts as a false hypothesis
   double step_tolerance = 1e-6;   // inner steps stop when an update moves less (m, rad)
   // Fill ObjectQuality::information (a 6 x 6 sum per pair; a caller that does not weight its fits
@@ -70,7 +77,13 @@ struct ObjectQuality {
   int inliers = 0;   // measured points paired with the object in the last round
   int expected = 0;  // valid measurements whose ray hits the object at the final estimate
   double inlier_ratio = 0.0;
+  // The share of `expected` within the last round's own threshold (inlier_ratio counts the rays
+  // within the noise band, RefinerOptions::noise_sigmas): how closely the pose explains them.
+  double close_ratio = 0.0;
   double rmse = 0.0;  // of the inliers' point-to-point residuals (m)
+  // Root mean square of each inlier's residual over its threshold: 0 on the surface, 1 when every
+  // inlier lies at its threshold.
+  double rms_of_threshold = 0.0;
   AlignmentStatus last_alignment = AlignmentStatus::kOk;
   RefineStatus status = RefineStatus::kNotVisible;
   // What the last round's pairs constrain: the sum of J J^T of their point-to-plane residuals for

@@ -40,13 +40,14 @@ struct PairingStats {
   std::vector<int> expected;
 };
 
-// Casts `tiles` of `m` (each ray only up to its measured range + max_dist) and returns the
-// accepted pairs per group (|hit range - measured| < max_dist). `hits` is scratch space reused
+// Casts `tiles` of `m` (each ray only up to its measured range r + max_dist.at(r)) and returns
+// the accepted pairs per group (|hit range - r| < max_dist.at(r)). `hits` is scratch space reused
 // between calls.
 std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
                                                   const RangeMeasurements& m, const TileSet& tiles,
-                                                  const NodeGroups& groups, float max_dist,
-                                                  RayHits& hits, PairingStats* stats = nullptr);
+                                                  const NodeGroups& groups,
+                                                  const RangeTolerance& max_dist, RayHits& hits,
+                                                  PairingStats* stats = nullptr);
 
 enum class NormalSide { kMoving, kFixed };
 

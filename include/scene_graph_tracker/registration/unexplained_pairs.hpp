@@ -18,10 +18,10 @@
 namespace sgt {
 
 struct UnexplainedPairing {
-  float ray_threshold;  // the round's ray-pair threshold: rays paired with an object are explained
-  float front_margin;   // a point counts as in front of the predicted surface beyond this (m)
-  float box_margin;     // ... and as near an object within this of its box (m)
-  float radius;         // largest distance to the object's surface that pairs (m)
+  RangeTolerance ray_threshold;  // the round's ray-pair threshold: paired rays are explained
+  float front_margin;  // a point counts as in front of the predicted surface beyond this (m)
+  float box_margin;    // ... and as near an object within this of its box (m)
+  float radius;        // largest distance to the object's surface that pairs (m)
   const std::vector<float>* radii = nullptr;  // per object, instead of `radius` (<= 0: no pulls)
 };
 

@@ -19,6 +19,7 @@
 
 #include "scene_graph_tracker/geometry/triangle_mesh.hpp"
 #include "scene_graph_tracker/scene/node_id.hpp"
+#include "scene_graph_tracker/sensors/range_noise.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
 
 struct RTCDeviceTy;
@@ -105,12 +106,12 @@ class TileSet {
   std::vector<std::int32_t> tiles_;
 };
 
-// Optional per-ray far limit for cast(): a ray stops at range[i] + slack, and a ray whose
-// range[i] is not finite is not cast at all (its hit reads "nothing"). Correspondence search
+// Optional per-ray far limit for cast(): a ray stops at range[i] + slack.at(range[i]), and a ray
+// whose range[i] is not finite is not cast at all (its hit reads "nothing"). Correspondence search
 // uses it: a surface farther than the measurement plus the threshold cannot pair with it.
 struct CastLimit {
   const std::vector<float>* range = nullptr;
-  float slack = 0.0f;
+  RangeTolerance slack;
 };
 
 // A ray in the world frame, for incoherent casts (e.g. normal shooting).

@@ -14,6 +14,7 @@
 
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
+#include "scene_graph_tracker/sensors/range_noise.hpp"
 
 namespace sgt {
 
@@ -22,13 +23,11 @@ const char* toString(PointLabel l);
 
 struct PresegmentOptions {
   // A measurement agrees with the predicted surface within sigma_factor x its noise sigma (at the
-  // predicted range p), and never less than min_tolerance (map and mesh modelling error). The
-  // noise: depth images sigma = depth_sigma_at_1m * p^2 (structured light / stereo), other
-  // sensors a constant range_sigma (LiDAR).
+  // predicted range p; sensors/range_noise.hpp), and never less than min_tolerance (map and mesh
+  // modelling error).
   float sigma_factor = 3.0f;
   float min_tolerance = 0.02f;
-  float depth_sigma_at_1m = 0.0015f;
-  float range_sigma = 0.01f;
+  RangeNoise noise;
 };
 
 struct LabelCounts {

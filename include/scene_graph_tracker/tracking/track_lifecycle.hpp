@@ -46,11 +46,12 @@ struct LifecycleOptions {
 // What a track knows of its own history.
 struct TrackLife {
   TrackState state = TrackState::kTentative;
-  int hits = 0;                // good fits that counted towards confirmation
-  int detections = 0;          // hypotheses associated with the track
-  double fit_support = -1.0;   // running mean of its good fits' inlier ratios (< 0: none yet)
-  double absent_since = -1.0;  // < 0: no evidence of absence
-  double sunk_since = -1.0;    // < 0: not inside the static map
+  int hits = 0;                 // good fits that counted towards confirmation
+  int detections = 0;           // hypotheses associated with the track
+  double fit_support = -1.0;    // running mean of its good fits' inlier ratios (< 0: none yet)
+  double fit_closeness = -1.0;  // the same of their close ratios (ObjectQuality::close_ratio)
+  double absent_since = -1.0;   // < 0: no evidence of absence
+  double sunk_since = -1.0;     // < 0: not inside the static map
   double last_hypothesis = 0.0;
   double last_orientation_search = -1e9;
   int orientation_disputes = 0;  // consecutive associated hypotheses turned away from the track
@@ -102,8 +103,9 @@ struct LostTrackResume {
 // good fit whose rotation lies beyond fit_turn_gate of its predicted one (squared Mahalanobis
 // distance `turn_distance2`, prediction and fit noise): the motion model says the object cannot
 // have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
-// Unless the turned fit explains a larger share of its rays than the track's fits have (its fit
-// support): then the track was the wrong one (confirmed in a wrong turn) and the fit corrects it.
+// Unless the turned fit explains a larger share of its rays closely than the track's fits have
+// (close ratio against fit closeness): then the track was the wrong one (confirmed in a wrong
+// turn) and the fit corrects it.
 struct TurnGate {
   static bool rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
                       double turn_distance2, const LifecycleOptions& o);
@@ -137,8 +139,10 @@ struct ChildOfContainer {
   static bool collectsAbsence(bool child) { return !child; }
 };
 
-// A confirmed track whose fits explain less than research_below_fit_support of its rays may be
-// turned: searched again, no sooner than orientation_search_interval_s after the last search.
+// A confirmed track whose fits explain less than research_below_fit_support of its rays closely
+// (fit closeness; in far, noisy depth a wrong turn still explains most rays within the noise)
+// may be turned: searched again, no sooner than orientation_search_interval_s after the last
+// search.
 struct OrientationReSearch {
   static bool due(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
 };

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "scene_graph_tracker/segmentation/depth_noise.hpp"
+
 namespace sgt {
 namespace {
 
@@ -33,7 +35,7 @@ class StageClock {
 FramePipeline::FramePipeline(std::shared_ptr<const ObjectCatalog> catalog,
                              std::shared_ptr<const TriangleMesh> static_map,
                              const PipelineOptions& options)
-    : catalog_(std::move(catalog)), options_(options) {
+    : catalog_(std::move(catalog)), options_(options), noise_(options.presegmentation.noise) {
   map_node_ = graph_.add("static_map", "static_map", kWorldNode, Eigen::Isometry3d::Identity());
   scene_.setStaticMap(std::move(static_map), map_node_);
   for (const std::string& name : catalog_->names()) {
@@ -53,7 +55,11 @@ PipelineResult FramePipeline::process(PipelineFrame frame) {
   out.stamp = frame.stamp;
   std::vector<RangeMeasurements>& sets = frame.measurements;
   // 1. Localize the robot against the static map; every sensor moves with the correction.
-  clock.run(out.times.localize_ms, [&] { localize(frame, out); });
+  clock.run(out.times.localize_ms, [&] {
+    localize(frame, out);
+    measureNoise(sets);
+  });
+  out.noise = noise_;
   // 2. Predict the tracks to this frame and assign the hypotheses to them.
   clock.run(out.times.associate_ms, [&] {
     predict(frame.stamp);
@@ -97,6 +103,30 @@ void FramePipeline::localize(PipelineFrame& frame, PipelineResult& out) {
   }
   out.T_map_odom = T_map_odom_;
   out.T_map_base = T_map_odom_ * frame.T_odom_base;
+}
+
+void FramePipeline::measureNoise(const std::vector<RangeMeasurements>& sets) {
+  if (!options_.measure_depth_noise) return;
+  // A frame moves the estimate by a fifth of its difference: a few frames settle it, a frame in
+  // which a person fills the view does not.
+  constexpr float kWeight = 0.2f;
+  for (const RangeMeasurements& m : sets)
+    if (const auto s =
+            measureDepthSigmaAt1m(scene_, m, options_.presegmentation.noise.depth_sigma_at_1m))
+      noise_.depth_sigma_at_1m += kWeight * (*s - noise_.depth_sigma_at_1m);
+}
+
+void FramePipeline::setOptions(const PipelineOptions& o) {
+  const RangeNoise& before = options_.presegmentation.noise;
+  if (o.presegmentation.noise.depth_sigma_at_1m != before.depth_sigma_at_1m ||
+      o.presegmentation.noise.range_sigma != before.range_sigma || !o.measure_depth_noise)
+    noise_ = o.presegmentation.noise;  // a new setting starts the measurement again
+  options_ = o;
+}
+
+RefinerOptions FramePipeline::withSensorNoise(RefinerOptions r) const {
+  r.noise = noise_, r.noise_sigmas = options_.refiner.noise_sigmas;
+  return r;
 }
 
 std::vector<RangeMeasurements> FramePipeline::localizationSets(
@@ -170,7 +200,7 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
     }
     targets.push_back(target);
   }
-  RefinerOptions refiner = options_.refiner;
+  RefinerOptions refiner = withSensorNoise(options_.refiner);
   refiner.information = options_.fit_point_sigma_m > 0.0;  // only weighted fits read it
   const RefineResult r = ObjectRefiner(refiner).refine(scene_, targets, sets);
   updateTracks(r, sets, stamp, dropped);
@@ -186,8 +216,9 @@ std::vector<Presegmentation> FramePipeline::presegmentAll(
       hidden.push_back(t.out.node), scene_.setInstanceEnabled(t.out.node, false);
   if (!hidden.empty()) scene_.commit();
   std::vector<Presegmentation> result;
-  for (const RangeMeasurements& m : sets)
-    result.push_back(presegment(scene_, m, options_.presegmentation));
+  PresegmentOptions presegmentation = options_.presegmentation;
+  presegmentation.noise = noise_;
+  for (const RangeMeasurements& m : sets) result.push_back(presegment(scene_, m, presegmentation));
   for (NodeId n : hidden) scene_.setInstanceEnabled(n, true);
   if (!hidden.empty()) scene_.commit();
   return result;
@@ -247,6 +278,7 @@ void FramePipeline::dropTrack(std::size_t k) {
 void FramePipeline::reset() {
   while (!tracks_.empty()) removeTrack(tracks_.back().out.id);
   T_map_odom_ = Eigen::Isometry3d::Identity();
+  noise_ = options_.presegmentation.noise;
   last_stamp_ = -1.0;
   hysteresis_.clear();
 }

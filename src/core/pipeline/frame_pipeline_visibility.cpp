@@ -43,12 +43,15 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
         !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),
                                             coarse ? ro.ray_stride : 1);
+    const RangeTolerance threshold =
+        m.isDepthImage() ? RangeTolerance(m, ro.max_dist_last, ro.noise, ro.noise_sigmas)
+                         : RangeTolerance(ro.max_dist_last);
     scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
-               limited ? CastLimit{&m.range, ro.max_dist_last} : CastLimit{});
+               limited ? CastLimit{&m.range, threshold} : CastLimit{});
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (hits.node[i] != node || !m.valid(i)) return;
       ++c.reaching;
-      c.agreeing += std::abs(hits.range[i] - m.range[i]) < ro.max_dist_last;
+      c.agreeing += std::abs(hits.range[i] - m.range[i]) < threshold.at(m.range[i]);
     });
   }
   return c;
@@ -60,7 +63,7 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   const NodeId node = tracks_[k].out.node;
   const ObjectExtent extent{scene_.instancePose(node),
                             scene_.mesh(scene_.instanceMesh(node)).boundingBox()};
-  const RefinerOptions& ro = options_.refiner;
+  const RefinerOptions ro = withSensorNoise(options_.refiner);
   const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
   if (seen.reaching < ro.alignment.min_points ||
       seen.agreeing >= ro.min_inlier_ratio * seen.reaching)

@@ -311,6 +311,10 @@ Schema<T> refinementParams() {
           "refine/min_inlier_ratio", kRefinement, PIPE(refiner.min_inlier_ratio), 0.0, 1.0, "",
           kRuntime,
           "a fit explaining less of the rays reaching the object counts as a false hypothesis"),
+      number<T>("refine/noise_sigmas", kRefinement, PIPE(refiner.noise_sigmas), 0.0, 20.0, "",
+                kRuntime,
+                "a depth ray counts as an object inlier within this many sigmas of the depth "
+                "noise where wider than the threshold; fits move by the threshold alone (0: off)"),
       number<T>("refine/min_points", kRefinement, PIPE(refiner.alignment.min_points), 3, 100000, "",
                 kRuntime, "fewest inliers of a fit"),
       flag<T>("refine_with_lidar", kRefinement, PIPE(refine_with_lidar), kRuntime,
@@ -409,10 +413,14 @@ Schema<T> presegmentationParams() {
                 PIPE(presegmentation.min_tolerance), 0.0, 1.0, "m", kRuntime,
                 "... and never less than this (map and mesh error)"),
       number<T>("presegmentation/depth_sigma_at_1m", kPresegmentation,
-                PIPE(presegmentation.depth_sigma_at_1m), 0.0, 0.1, "m", kRuntime,
+                PIPE(presegmentation.noise.depth_sigma_at_1m), 0.0, 0.1, "m", kRuntime,
                 "depth image noise at 1 m, growing with range squared"),
-      number<T>("presegmentation/range_sigma", kPresegmentation, PIPE(presegmentation.range_sigma),
-                0.0, 1.0, "m", kRuntime, "LiDAR range noise"),
+      flag<T>("presegmentation/measure_depth_noise", kPresegmentation, PIPE(measure_depth_noise),
+              kRuntime,
+              "measure depth_sigma_at_1m on the static map in every frame (the setting starts it)"),
+      number<T>("presegmentation/range_sigma", kPresegmentation,
+                PIPE(presegmentation.noise.range_sigma), 0.0, 1.0, "m", kRuntime,
+                "LiDAR range noise"),
   };
 }
 

@@ -80,6 +80,26 @@ void appendPointToPoint(RayPair p, std::vector<RayPair>& out) {
   }
 }
 
+// The pairs the fit moves the object by: those within the round's threshold. Rays in the wider
+// band of the sensor's noise (`widened`) count as the object's (inliers, assignment, no pulls) but
+// do not move it: a far object's band reaches its identical neighbour.
+void appendAlignmentPairs(const std::vector<RayPair>& found, bool widened, float max_dist,
+                          std::vector<RayPair>& out) {
+  if (!widened) {
+    out.insert(out.end(), found.begin(), found.end());
+    return;
+  }
+  for (const RayPair& p : found)
+    if ((p.model - p.measured).norm() < max_dist) out.push_back(p);
+}
+
+// The round's threshold widened to the sensor's noise: for depth images, whose noise grows with
+// range squared (and is measured); a LiDAR's small constant noise keeps the threshold.
+RangeTolerance noiseBand(const RangeMeasurements& m, float max_dist, const RefinerOptions& o) {
+  return m.isDepthImage() ? RangeTolerance(m, max_dist, o.noise, o.noise_sigmas)
+                          : RangeTolerance(max_dist);
+}
+
 float thresholdOfRound(const RefinerOptions& o, int round) {
   if (o.rounds <= 1) return o.max_dist_last;
   const float f = static_cast<float>(round) / static_cast<float>(o.rounds - 1);
@@ -113,6 +133,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       pull_radii[k] = std::min(options_.pull_radius, targets[k].pull_radius);
   std::vector<char> degenerate(n_obj, 0);
   std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
+  std::vector<RangeTolerance> last_tolerance(measurements.size());
   std::vector<int> expected(n_obj, 0);
   for (int round = 0; round < options_.rounds; ++round) {
     const float max_dist = thresholdOfRound(options_, round);
@@ -131,13 +152,15 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
                             coarse ? options_.ray_stride : 1);
       result.rays_cast += tiles.rayCount();
       PairingStats stats;
-      last_pairs[s] = collectRayPairs(scene, m, tiles, groups, max_dist, hits, &stats);
+      const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
+      if (last) last_tolerance[s] = tolerance;
+      last_pairs[s] = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
       for (int k = 0; k < n_obj; ++k) {
-        pairs[k].insert(pairs[k].end(), last_pairs[s][k].begin(), last_pairs[s][k].end());
+        appendAlignmentPairs(last_pairs[s][k], options_.noise_sigmas > 0.0f, max_dist, pairs[k]);
         expected[k] += stats.expected[k];
       }
       if (options_.pull_radius > 0.0f) {
-        const UnexplainedPairing pulling{max_dist, options_.pull_front_margin, options_.roi_margin,
+        const UnexplainedPairing pulling{tolerance, options_.pull_front_margin, options_.roi_margin,
                                          options_.pull_radius, &pull_radii};
         const auto pulls =
             collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
@@ -183,13 +206,18 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     ObjectEstimate& e = result.objects[k];
     e.T_world_object = extents[k].T_world_object;
     ObjectQuality& q = e.quality;
-    double sq = 0.0;
+    double sq = 0.0, sq_of_threshold = 0.0;
+    int close = 0;
+    const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
     const Eigen::Vector3d centre = e.T_world_object.translation();
     for (std::size_t s = 0; s < measurements.size(); ++s)
       for (const RayPair& p : last_pairs[s][k]) {
         const double r = (p.model - p.measured).norm();  // within the last round's threshold
+        const double t = last_tolerance[s].at(measurements[s].range[p.ray]);
         ++q.inliers;
         sq += r * r;
+        sq_of_threshold += r * r / (t * t);
+        close += r < last_threshold;
         result.assignment[s][p.ray] = targets[k].node;
         if (!options_.information) continue;
         const Eigen::Vector3d n = p.normal.cast<double>();
@@ -200,7 +228,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     q.expected = expected[k];
     q.inlier_ratio =
         q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
+    q.close_ratio = options_.noise_sigmas > 0.0f && q.expected > 0
+                        ? std::min(1.0, static_cast<double>(close) / q.expected)
+                        : q.inlier_ratio;
     q.rmse = q.inliers > 0 ? std::sqrt(sq / q.inliers) : 0.0;
+    q.rms_of_threshold = q.inliers > 0 ? std::sqrt(sq_of_threshold / q.inliers) : 0.0;
     if (q.expected == 0)
       q.status = RefineStatus::kNotVisible;
     else if (q.inliers < options_.alignment.min_points)

@@ -51,8 +51,7 @@ OrientationChoice chooseOrientation(RaycastScene& scene, const RefineTarget& tar
       continue;
     // MSAC-style: each inlier counts 1 - (r / threshold)^2, so a closer fit of the same points
     // wins (an upside-down box explains nearly the same pixels, a few mm worse).
-    const double t = refiner.max_dist_last,
-                 fit = std::max(0.0, 1.0 - e.quality.rmse * e.quality.rmse / (t * t));
+    const double fit = std::max(0.0, 1.0 - e.quality.rms_of_threshold * e.quality.rms_of_threshold);
     double score = e.quality.inliers * e.quality.inlier_ratio * fit;
     if (k > 0) score /= 1.0 + prior.own_margin;  // the detection's own orientation wins ties
     if (prior.world_up)

@@ -16,8 +16,9 @@ void NodeGroups::set(NodeId node, int group) {
 
 std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
                                                   const RangeMeasurements& m, const TileSet& tiles,
-                                                  const NodeGroups& groups, float max_dist,
-                                                  RayHits& hits, PairingStats* stats) {
+                                                  const NodeGroups& groups,
+                                                  const RangeTolerance& max_dist, RayHits& hits,
+                                                  PairingStats* stats) {
   const int n_groups = groups.groupCount();
   std::vector<std::vector<RayPair>> out(n_groups);
   if (stats) stats->expected.assign(n_groups, 0);
@@ -35,7 +36,7 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
           const int g = groups(hits.node[i]);
           if (g < 0 || !m.valid(i)) return;
           ++count[g];
-          if (std::abs(hits.range[i] - m.range[i]) >= max_dist) return;
+          if (std::abs(hits.range[i] - m.range[i]) >= max_dist.at(m.range[i])) return;
           const Eigen::Vector3f origin =
               rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);
           pairs[g].push_back({origin + R * (rays.directions[i] * m.range[i]), hits.point[i],

@@ -28,7 +28,7 @@ std::vector<std::vector<RayPair>> collectUnexplainedPairs(
     tiles.forTile(rays, b, [&](int, std::size_t i) {
       if (!m.valid(i)) return;
       const float r = m.range[i];
-      if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold)
+      if (groups(hits.node[i]) >= 0 && std::abs(hits.range[i] - r) < o.ray_threshold.at(r))
         return;  // ray pair
       if (!(hits.range[i] > r + o.front_margin))
         return;  // explained, or behind the predicted surface

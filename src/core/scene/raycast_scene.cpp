@@ -373,7 +373,7 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
                 hits.node[i] = kNoNode;
                 return;
               }
-              far = std::min(far, r + limit.slack);
+              far = std::min(far, r + limit.slack.at(r));
             }
             valid[k] = -1;
             index[k] = i;

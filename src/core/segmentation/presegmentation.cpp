@@ -33,11 +33,7 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   RayHits& hits = *lease;
   scene.cast(*m.rays, m.T_world_sensor, hits);  // every ray: no stale hit is read
   const NodeId map = scene.staticMapNode();
-  const bool depth = std::holds_alternative<PinholeModel>(m.model);
-  const auto tolerance = [&](float p) {
-    const float sigma = depth ? options.depth_sigma_at_1m * p * p : options.range_sigma;
-    return std::max(options.min_tolerance, options.sigma_factor * sigma);
-  };
+  const RangeTolerance tolerance(m, options.min_tolerance, options.noise, options.sigma_factor);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       if (!m.valid(i)) continue;
@@ -46,7 +42,7 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
         continue;
       }
       const float p = hits.range[i];
-      const float tol = tolerance(p);
+      const float tol = tolerance.at(p);
       const float d = m.range[i] - p;
       if (d < -tol) {
         out.label[i] = PointLabel::kUnknown;

@@ -14,6 +14,7 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
                  const LifecycleOptions& o) {
   TrackLife& life = t.life;
   life.fit_support = FitSupport::next(life.fit_support, e.fit.inlier_ratio, o);
+  life.fit_closeness = FitSupport::next(life.fit_closeness, e.fit.close_ratio, o);
   const bool contradicted = FitSupport::unsupported(e.child, life.fit_support, o);
   life.absent_since = absentSince(life.absent_since,
                                   before.state != TrackState::kTentative && contradicted, e.stamp);
@@ -71,7 +72,7 @@ bool TurnGate::rejects(const TrackLife& life, bool child, const ObjectQuality& f
                        double turn_distance2, const LifecycleOptions& o) {
   return o.fit_turn_gate > 0.0 && life.state != TrackState::kTentative && !child &&
          fit.status == RefineStatus::kOk && turn_distance2 > o.fit_turn_gate &&
-         fit.inlier_ratio <= life.fit_support;
+         fit.close_ratio <= life.fit_closeness;
 }
 
 double FitSupport::next(double support, double inlier_ratio, const LifecycleOptions& o) {
@@ -102,7 +103,7 @@ bool TentativeAbsence::absent(const ObjectQuality& fit, const LifecycleOptions& 
 bool OrientationReSearch::due(const TrackLife& life, const TrackEvidence& e,
                               const LifecycleOptions& o) {
   return life.state == TrackState::kConfirmed && !e.child &&
-         life.fit_support < o.research_below_fit_support &&
+         life.fit_closeness < o.research_below_fit_support &&
          e.stamp - life.last_orientation_search >= o.orientation_search_interval_s &&
          !e.queued_for_search;
 }
