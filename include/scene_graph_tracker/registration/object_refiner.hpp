@@ -114,6 +114,10 @@ struct RefineResult {
   std::size_t rays_cast = 0;
 };
 
+// `max_dist` widened to o.noise_sigmas of the sensor's noise: for depth images, whose noise grows
+// with range squared (and can be measured); a LiDAR's small constant noise keeps `max_dist`.
+RangeTolerance noiseBand(const RangeMeasurements& m, float max_dist, const RefinerOptions& o);
+
 class ObjectRefiner {
  public:
   explicit ObjectRefiner(const RefinerOptions& options = {}) : options_(options) {}

@@ -43,9 +43,7 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
         !ro.full_resolution_last_round && std::holds_alternative<PinholeModel>(m.model);
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),
                                             coarse ? ro.ray_stride : 1);
-    const RangeTolerance threshold =
-        m.isDepthImage() ? RangeTolerance(m, ro.max_dist_last, ro.noise, ro.noise_sigmas)
-                         : RangeTolerance(ro.max_dist_last);
+    const RangeTolerance threshold = noiseBand(m, ro.max_dist_last, ro);
     scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
                limited ? CastLimit{&m.range, threshold} : CastLimit{});
     tiles.forEachRay(*m.rays, [&](std::size_t i) {

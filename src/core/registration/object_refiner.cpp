@@ -93,13 +93,6 @@ void appendAlignmentPairs(const std::vector<RayPair>& found, bool widened, float
     if ((p.model - p.measured).norm() < max_dist) out.push_back(p);
 }
 
-// The round's threshold widened to the sensor's noise: for depth images, whose noise grows with
-// range squared (and is measured); a LiDAR's small constant noise keeps the threshold.
-RangeTolerance noiseBand(const RangeMeasurements& m, float max_dist, const RefinerOptions& o) {
-  return m.isDepthImage() ? RangeTolerance(m, max_dist, o.noise, o.noise_sigmas)
-                          : RangeTolerance(max_dist);
-}
-
 float thresholdOfRound(const RefinerOptions& o, int round) {
   if (o.rounds <= 1) return o.max_dist_last;
   const float f = static_cast<float>(round) / static_cast<float>(o.rounds - 1);
@@ -107,6 +100,11 @@ float thresholdOfRound(const RefinerOptions& o, int round) {
 }
 
 }  // namespace
+
+RangeTolerance noiseBand(const RangeMeasurements& m, float max_dist, const RefinerOptions& o) {
+  return m.isDepthImage() ? RangeTolerance(m, max_dist, o.noise, o.noise_sigmas)
+                          : RangeTolerance(max_dist);
+}
 
 RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<RefineTarget>& targets,
                                    const std::vector<RangeMeasurements>& measurements) const {
