@@ -532,7 +532,7 @@ void Evaluation::fitTracks(const sgt::ros::BagFrame& bf, const sgt::PipelineResu
     sgt::TrackSample s{r.stamp,           o.id,
                        o.class_name,      o.state != sgt::TrackState::kTentative,
                        o.quality.inliers, o.quality.inlier_ratio,
-                       std::nullopt};
+                       std::nullopt,      o.T_map_object};
     const int i = fits_.index[k];
     if (i >= 0 && fits_.fits[i].visible_pixels > 0)
       s.depth_residual_m = fits_.fits[i].median_residual_m;

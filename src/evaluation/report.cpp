@@ -368,7 +368,8 @@ std::string EvaluationReport::timeseriesCsv() const {
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
        "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm,inliers,inlier_ratio,"
-       "confirmed,in_view\n";
+       "confirmed,in_view,x,y,z,qx,qy,qz,qw\n";
+  const char* no_pose = ",,,,,,,";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? jsonNumber(r.e->add_s * 1000) : "") << ","
@@ -377,15 +378,15 @@ std::string EvaluationReport::timeseriesCsv() const {
       << (r.e ? jsonNumber(r.e->rotation_deg) : "") << ",,,,,,,," << r.track << ","
       << (r.depth_residual_m ? jsonNumber(*r.depth_residual_m * 1000) : "") << ","
       << (r.gt_depth_residual_m ? jsonNumber(*r.gt_depth_residual_m * 1000) : "") << ",,,,"
-      << (r.in_view ? 1 : 0) << "\n";
+      << (r.in_view ? 1 : 0) << no_pose << "\n";
   for (const FalsePositiveRow& f : false_positives_)
     o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
-      << f.track_id << ",,,,,,\n";
+      << f.track_id << ",,,,,," << no_pose << "\n";
   for (const FrameRow& f : frames_)
     o << "frame," << f.stamp << ",,,,,,," << f.times.localize_ms << "," << f.times.associate_ms
       << "," << f.times.refine_ms << "," << f.times.presegment_ms << "," << f.times.total_ms << ","
       << (f.loc_t ? jsonNumber(*f.loc_t * 1000) : "") << ","
-      << (f.loc_r ? jsonNumber(*f.loc_r) : "") << ",,,,,,,\n";
+      << (f.loc_r ? jsonNumber(*f.loc_r) : "") << ",,,,,,," << no_pose << "\n";
   o << tracks_.csvRows();
   return o.str();
 }

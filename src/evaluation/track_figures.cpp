@@ -36,6 +36,15 @@ std::map<std::string, PerTrack> perTrack(const std::vector<TrackSample>& samples
 
 }  // namespace
 
+std::string poseColumns(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d t = T.translation();
+  const Eigen::Quaterniond q(T.rotation());
+  std::ostringstream o;
+  o << std::setprecision(9) << "," << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << ","
+    << q.y() << "," << q.z() << "," << q.w();
+  return o.str();
+}
+
 void TrackFigures::add(const TrackSample& s) { samples_.push_back(s); }
 
 void TrackFigures::addFrame(double, std::size_t confirmed) {
@@ -85,7 +94,8 @@ std::string TrackFigures::csvRows() const {
   for (const TrackSample& s : samples_)
     o << "track," << s.stamp << "," << s.id << "," << s.class_name << ",,,,,,,,,,,," << s.id << ","
       << (s.depth_residual_m ? jsonNumber(*s.depth_residual_m * 1000) : "") << ",," << s.inliers
-      << "," << jsonNumber(s.inlier_ratio) << "," << (s.confirmed ? 1 : 0) << ",\n";
+      << "," << jsonNumber(s.inlier_ratio) << "," << (s.confirmed ? 1 : 0) << ","
+      << poseColumns(s.T_map_object) << "\n";
   return o.str();
 }
 

@@ -368,12 +368,13 @@ visualization_msgs::MarkerArray TrackerNodelet::markers(const PipelineResult& r,
     m.header = header;
     m.ns = "objects", m.id = marker_id++, m.type = visualization_msgs::Marker::MESH_RESOURCE;
     m.mesh_resource = c.mesh_uri;
-    m.pose = toPose(o.T_map_object), m.scale.x = m.scale.y = m.scale.z = c.mesh_scale,
-    m.color = colour(o.state);
+    m.pose = toPose(o.T_map_object * c.T_object_mesh),
+    m.scale.x = m.scale.y = m.scale.z = c.mesh_scale, m.color = colour(o.state);
     markers.markers.push_back(m);
     visualization_msgs::Marker box = m;
     box.ns = "boxes", box.id = marker_id++, box.type = visualization_msgs::Marker::CUBE,
     box.mesh_resource.clear();
+    box.pose.orientation = toPose(o.T_map_object).orientation;  // c.box is in the object frame
     const Eigen::Vector3d centre = o.T_map_object * c.box.center().cast<double>();
     box.pose.position.x = centre.x(), box.pose.position.y = centre.y(),
     box.pose.position.z = centre.z();

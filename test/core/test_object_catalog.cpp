@@ -73,6 +73,44 @@ TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
   EXPECT_THROW(loadObjectCatalog(test::writeFile("broken.yaml", "objects: [\n")), CatalogError);
 }
 
+// A mesh modelled in other axes than its poses refer to (a Y-up OBJ): `origin` puts it into the
+// object frame as a URDF visual's origin does, before anything uses it.
+TEST(ObjectCatalog, OriginMovesTheMeshIntoTheObjectFrame) {
+  const std::string mesh = "package://scene_graph_tracker/meshes/multimeter.stl";
+  const ObjectClass plain =
+      loadObjectCatalog(test::writeFile("plain.yaml", "objects:\n  mm:\n    mesh: " + mesh + "\n"))
+          .get("mm");
+  const ObjectClass moved =
+      loadObjectCatalog(test::writeFile("origin.yaml", "objects:\n  mm:\n    mesh: " + mesh +
+                                                           "\n    origin: {xyz: [0.1, 0, 0], "
+                                                           "rpy: [1.5707963267948966, 0, 0]}\n"))
+          .get("mm");
+  const Eigen::Isometry3d T(Eigen::Translation3d(0.1, 0, 0) *
+                            Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE(moved.T_object_mesh.isApprox(T, 1e-12));
+  // Rotated about x by 90 deg: the box's y and z sizes swap, its centre moves with the origin.
+  EXPECT_NEAR(moved.box.sizes().y(), plain.box.sizes().z(), 1e-5);
+  EXPECT_NEAR(moved.box.sizes().z(), plain.box.sizes().y(), 1e-5);
+  const Eigen::Vector3d centre = T * plain.box.center().cast<double>();
+  EXPECT_TRUE(moved.box.center().cast<double>().isApprox(centre, 1e-5))
+      << moved.box.center().transpose() << " vs " << centre.transpose();
+  EXPECT_NEAR(moved.diameter, plain.diameter, 1e-6);
+  ASSERT_EQ(moved.mesh->vertices.size(), plain.mesh->vertices.size());
+  EXPECT_TRUE(moved.mesh->vertices[7].cast<double>().isApprox(
+      T * plain.mesh->vertices[7].cast<double>(), 1e-6));
+  for (const char* bad : {"origin: 5", "origin: {rpy: [1, 2]}", "origin: {xyz: [0, .nan, 0]}"}) {
+    const std::string path = test::writeFile(
+        "bad_origin.yaml", "objects:\n  mm:\n    mesh: " + mesh + "\n    " + bad + "\n");
+    try {
+      loadObjectCatalog(path);
+      FAIL() << "no error for " << bad;
+    } catch (const CatalogError& e) {
+      EXPECT_NE(std::string(e.what()).find("origin"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("class 'mm'"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // make fuzz (config): YAML type errors and unresolvable paths escaped as YAML::Exception or
 // MeshError; every problem is a CatalogError naming the file and the class.
 TEST(ObjectCatalog, AnythingWrongIsACatalogErrorNamingTheClass) {

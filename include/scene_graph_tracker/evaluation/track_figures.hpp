@@ -1,10 +1,11 @@
 // Per-track figures that need no ground truth, so that a user's own bag gets a report: for each
 // track in each frame, its fit support (measurements paired with it), inlier ratio and median depth
-// residual on its visible surface (evaluation/surface_fit.hpp), and the number of tracks per frame.
-// EvaluationReport writes them as report.json "tracks", a report.md table and "track" rows of
-// timeseries.csv.
+// residual on its visible surface (evaluation/surface_fit.hpp), its pose, and the number of tracks
+// per frame. EvaluationReport writes them as report.json "tracks", a report.md table and "track"
+// rows of timeseries.csv.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <map>
 #include <optional>
 #include <string>
@@ -19,7 +20,11 @@ struct TrackSample {
   int inliers = 0;         // fit support: measurements paired with the track in its refinement
   double inlier_ratio = 0.0;
   std::optional<double> depth_residual_m;  // nullopt: no visible pixel
+  Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
 };
+
+// The timeseries.csv pose columns x, y, z, qx, qy, qz, qw of `T`, each after a comma.
+std::string poseColumns(const Eigen::Isometry3d& T);
 
 class TrackFigures {
  public:

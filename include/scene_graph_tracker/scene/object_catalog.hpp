@@ -39,7 +39,11 @@ struct ObjectClass {
   // file://<mesh_path>; drawn at `mesh_scale` (the catalog's `scale`).
   std::string mesh_uri;
   float mesh_scale = 1.0f;
-  std::shared_ptr<const TriangleMesh> mesh;
+  // The mesh file's pose in the object frame (the catalog's `origin`), for a mesh modelled in
+  // other axes than its poses refer to (Y-up, or about another point). `mesh` is already moved by
+  // it; a viewer drawing mesh_uri puts it at T_world_object * T_object_mesh.
+  Eigen::Isometry3d T_object_mesh = Eigen::Isometry3d::Identity();
+  std::shared_ptr<const TriangleMesh> mesh;  // in the object frame
   Symmetry symmetry;
   Eigen::AlignedBox3f box;  // of the mesh, object frame
   double diameter = 0.0;
@@ -68,8 +72,11 @@ class ObjectCatalog {
 //     multimeter:
 //       mesh: package://scene_graph_tracker/meshes/multimeter.stl   # path, file:// or package://
 //       scale: 1.0                                                  # optional
+//       origin: {xyz: [0, 0, 0], rpy: [1.5708, 0, 0]}  # optional: the mesh's pose in the object
+//                                          # frame, as a URDF visual's (m; rad, fixed x, y, z)
 //       symmetries_discrete: [[16 numbers, row-major 4x4], ...]      # optional
 //       symmetries_continuous: [{axis: [1, 0, 0], offset: [0, 0, 0]}]  # optional
+// Symmetries are in the object frame.
 // `mesh_dir_override`, when not empty, replaces mesh_dir and makes every mesh be looked up by
 // its file name in that directory or its sub-directory named after the class (so a catalog can
 // point at another set of meshes, e.g. ../shared/data/pbr_objects/meshes).

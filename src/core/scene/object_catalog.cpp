@@ -88,6 +88,32 @@ Symmetry parseSymmetry(const YAML::Node& node, const std::string& ctx) {
   return sym;
 }
 
+Eigen::Vector3d threeNumbers(const YAML::Node& n, const char* key, const std::string& ctx) {
+  const YAML::Node v = n[key];
+  if (!v) return Eigen::Vector3d::Zero();
+  if (!v.IsSequence() || v.size() != 3)
+    throw CatalogError(ctx + ": origin " + key + " needs three numbers" + where(v));
+  const Eigen::Vector3d out(v[0].as<double>(), v[1].as<double>(), v[2].as<double>());
+  if (!out.allFinite()) throw CatalogError(ctx + ": origin " + key + " is not finite" + where(v));
+  return out;
+}
+
+// `origin: {xyz: [m], rpy: [rad]}` as a URDF visual's: rotation about the fixed x, then y, then z.
+Eigen::Isometry3d parseOrigin(const YAML::Node& o, const std::string& ctx) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const YAML::Node origin = o["origin"];
+  if (!origin) return T;
+  if (!origin.IsMap())
+    throw CatalogError(ctx + ": origin needs {xyz: [...], rpy: [...]}" + where(origin));
+  const Eigen::Vector3d rpy = threeNumbers(origin, "rpy", ctx);
+  T.translation() = threeNumbers(origin, "xyz", ctx);
+  T.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  return T;
+}
+
 std::string findInOverride(const fs::path& dir, const std::string& cls,
                            const std::string& configured) {
   const std::string file = fs::path(configured).filename().string();
@@ -132,6 +158,8 @@ ObjectClass loadClass(const std::string& cls, const YAML::Node& o, const std::st
   opts.scale = obj.mesh_scale = o["scale"] ? o["scale"].as<float>() : 1.0f;
   opts.max_extent_m = 5.0f;  // a tracked object larger than 5 m is a unit mistake
   auto mesh = std::make_shared<TriangleMesh>(loadMesh(obj.mesh_path, opts));
+  obj.T_object_mesh = parseOrigin(o, ctx);
+  mesh->transform(obj.T_object_mesh.cast<float>());
   obj.box = mesh->boundingBox();
   obj.diameter = mesh->diameter();
   obj.mesh = std::move(mesh);
