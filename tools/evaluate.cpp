@@ -227,6 +227,8 @@ class Evaluation {
   std::optional<sgt::sim::Scenario> scenario_;
   sgt::ros::BagFrameReader reader_;
   std::unique_ptr<sgt::detection::PoseDetector> detector_;
+  sgt::detection::DetectionSchedule schedule_;  // when the detector runs, as in the nodelet
+  std::size_t frames_not_scheduled_ = 0;
   std::unique_ptr<sgt::FramePipeline> pipeline_;
   std::set<std::string> furniture_;
   std::unique_ptr<sgt::PoseScorer> scorer_;      // ADD-S to each class's surface
@@ -260,6 +262,7 @@ Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag, args.t
   if (!args.detector.empty()) {
     detector_ = std::make_unique<detection::PoseDetector>(
         args.detector, *catalog_, detector_params_.decode, detector_params_.pnp);
+    schedule_ = detection::DetectionSchedule(detector_params_.schedule);
     reader_.setReadRgb(true);
   }
   setUpPipeline();
@@ -312,6 +315,10 @@ void Evaluation::run() {
   });
   progress.finish();
   if (detector_) {
+    std::cout << "detector: ran on " << done - frames_not_scheduled_ - frames_without_rgb_ << " of "
+              << done << " frames (busy / settled interval "
+              << detector_params_.schedule.busy_interval_s << " / "
+              << detector_params_.schedule.settled_interval_s << " s)\n";
     std::cout << "detector: detections (PnP accepted) per class:";
     for (const auto& [c, n] : detections_by_class_)
       std::cout << " " << c << " " << n.first << " (" << n.second << ")";
@@ -336,6 +343,9 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
   const double detect_ms = detector_ ? detect(bf) : 0.0;
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;
+  std::vector<sgt::detection::ScheduledTrack> tracks;
+  for (const sgt::TrackedObject& o : r.objects) tracks.push_back({o.id, o.state});
+  schedule_.observe(r.stamp, tracks);
   report_.addFrame(r.stamp, r.times);
   report_.addDepthNoise(r.noise.depth_sigma_at_1m);
   fitTracks(bf, r);
@@ -346,6 +356,10 @@ double Evaluation::detect(sgt::ros::BagFrame& bf) {
   bf.frame.hypotheses.clear();  // the detector is the only source of hypotheses
   if (!bf.rgb) {
     ++frames_without_rgb_;
+    return 0.0;
+  }
+  if (!schedule_.due(bf.frame.stamp)) {
+    ++frames_not_scheduled_;
     return 0.0;
   }
   const auto t0 = std::chrono::steady_clock::now();

@@ -51,6 +51,8 @@ void DetectorNodelet::onInit() {
                info.onnx_path.c_str(), info.input_width, info.input_height, info.names.size(),
                decode.score_threshold, p.inference.backend.c_str(), p.inference.target.c_str());
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
+  schedule_ = detection::DetectionSchedule(p.schedule);
+  tracks_sub_ = nh.subscribe("tracked_objects", 2, &DetectorNodelet::onTracks, this);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   pairing_ =
       std::make_unique<DepthPairing>(p.depth_max_offset, p.use_depth ? p.depth_max_wait : 0.0);
@@ -95,6 +97,7 @@ void DetectorNodelet::publishDiagnostics() {
        {"depth_unused", c.depth_unused},
        {"images_waited_for_depth", double(pairing_->waited())},
        {"hypotheses", c.hypotheses},
+       {"images_not_scheduled", c.not_scheduled},
        // What never reached the detection: superseded in a full input buffer (node behind),
        // lost before the node (header.seq gaps); depth images only with use_depth.
        {"images_received", double(image_sub_.received())},
@@ -145,8 +148,33 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
   }
 }
 
+void DetectorNodelet::onTracks(const scene_graph_tracker::TrackedObjectArray::ConstPtr& msg) {
+  std::vector<detection::ScheduledTrack> tracks;
+  for (const auto& t : msg->objects) {
+    const TrackState state = t.state == t.CONFIRMED ? TrackState::kConfirmed
+                             : t.state == t.LOST    ? TrackState::kLost
+                                                    : TrackState::kTentative;
+    tracks.push_back({t.id, state});
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  schedule_.observe(msg->header.stamp.toSec(), tracks);
+}
+
+bool DetectorNodelet::scheduled(const std_msgs::Header& header) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (schedule_.due(header.stamp.toSec())) return true;
+    ++counts_.not_scheduled;
+  }
+  scene_graph_tracker::PoseHypothesisArray none;
+  none.header = header;
+  hypotheses_pub_.publish(none);
+  return false;
+}
+
 void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
                               const sensor_msgs::CameraInfoConstPtr& info) {
+  if (!scheduled(image->header)) return;
   for (const RgbFrame& frame : pairing_->addImage({image, info}, ::ros::WallTime::now()))
     detect(frame);
 }

@@ -8,6 +8,7 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <scene_graph_tracker/PoseHypothesisArray.h>
+#include <scene_graph_tracker/TrackedObjectArray.h>
 #include <yaml-cpp/yaml.h>
 
 #include <limits>
@@ -219,6 +220,41 @@ TEST_F(DetectorNodeTest, BadImagesAreSkippedCountedAndDetectionGoesOn) {
   const auto c = counters();
   EXPECT_GE(c.count("images_skipped") ? c.at("images_skipped") : 0.0, double(bad.size()));
   EXPECT_TRUE(warned("image skipped"));
+}
+
+// With every track confirmed (on tracked_objects), the node detects at most one image per
+// settled_interval (1 s) and answers the others at once with an empty array, counted; with no
+// track it detects the next image. Last: it leaves the node's schedule busy again.
+TEST_F(DetectorNodeTest, ASettledSceneIsDetectedOncePerSettledInterval) {
+  ::ros::Publisher tracks =
+      nh_.advertise<scene_graph_tracker::TrackedObjectArray>("/tracked_objects", 1, true);
+  for (int i = 0; i < 100 && tracks.getNumSubscribers() == 0; ++i) ::ros::Duration(0.05).sleep();
+  ASSERT_GT(tracks.getNumSubscribers(), 0u) << "the node does not read tracked_objects";
+  scene_graph_tracker::TrackedObjectArray settled;
+  settled.header.stamp = ::ros::Time::now();
+  settled.objects.resize(1);
+  settled.objects[0].id = "klt_1", settled.objects[0].class_name = "klt";
+  settled.objects[0].state = scene_graph_tracker::TrackedObject::CONFIRMED;
+  tracks.publish(settled);
+  ::ros::Duration(0.3).sleep();
+  const double not_scheduled = counter("images_not_scheduled");
+  const ::ros::WallTime start = ::ros::WallTime::now();
+  int answered = 0, detected = 0;
+  for (int i = 0; i < 6; ++i) {
+    const auto h = sendFrame(false);
+    answered += h != nullptr;
+    detected += h && !h->hypotheses.empty();
+  }
+  const double elapsed = (::ros::WallTime::now() - start).toSec();
+  EXPECT_EQ(answered, 6) << "every image gets its array";
+  EXPECT_LE(detected, 1 + static_cast<int>(elapsed)) << "6 images in " << elapsed << " s";
+  EXPECT_GE(counter("images_not_scheduled") - not_scheduled, double(answered - detected));
+
+  tracks.publish(scene_graph_tracker::TrackedObjectArray());  // no track: look for objects
+  ::ros::Duration(0.3).sleep();
+  const auto busy = sendFrame(false);
+  ASSERT_TRUE(busy);
+  EXPECT_FALSE(busy->hypotheses.empty()) << "with no track the next image is detected";
 }
 
 }  // namespace

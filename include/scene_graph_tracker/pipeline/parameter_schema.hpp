@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "scene_graph_tracker/detection/cuboid_pnp.hpp"
+#include "scene_graph_tracker/detection/detection_schedule.hpp"
 #include "scene_graph_tracker/detection/keypoint_detector.hpp"
 #include "scene_graph_tracker/pipeline/pipeline_options.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
@@ -95,6 +96,7 @@ struct DetectorParameters {
   std::string depth_transport = "raw";
   double depth_max_offset = 0.02;
   double depth_max_wait = 0.3;
+  detection::DetectionScheduleOptions schedule{0.0, 0.0, 0.25};
   std::string model = "package://scene_graph_tracker/models/sgt_keypoints.yaml";
   std::string catalog = "package://scene_graph_tracker/config/objects.yaml";
   std::string mesh_dir;

@@ -11,10 +11,15 @@
 // `depth_max_offset`, default 0.02 s): the range PnP on a few keypoints gets worst
 // (detection/depth_translation.hpp). With `depth_max_wait` > 0 (default 0.3 s) an RGB image whose
 // depth image may still come waits for it (ros/depth_pairing.hpp). Without such a depth image
-// the distance stays PnP's and the nodelet warns. Parameters: the parameter schema
-// (pipeline/parameter_schema.hpp), config/detector.yaml, doc/parameters.md; read at start. Bad
-// input is warned about (throttled) and skipped; the nodelet keeps running. Counts of images in,
-// published and skipped on /diagnostics ("scene_graph_tracker: detector"), once a second.
+// the distance stays PnP's and the nodelet warns. It detects on an image only when its schedule
+// says so (detection/detection_schedule.hpp: often while tracks are tentative, lately lost or
+// absent, at `settled_interval` while every track is confirmed), reading the tracks from
+// `tracked_objects` (the tracker's ~tracked_objects); any other image gets an empty
+// hypothesis array at once, so a tracker waiting for its image's array goes on. Parameters: the
+// parameter schema (pipeline/parameter_schema.hpp), config/detector.yaml, doc/parameters.md; read
+// at start. Bad input is warned about (throttled) and skipped; the nodelet keeps running. Counts of
+// images in, published and skipped on /diagnostics ("scene_graph_tracker: detector"), once a
+// second.
 #pragma once
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -23,12 +28,14 @@
 #include <message_filters/synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <scene_graph_tracker/TrackedObjectArray.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
 #include <memory>
 #include <mutex>
 
+#include "scene_graph_tracker/detection/detection_schedule.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/ros/depth_pairing.hpp"
 #include "scene_graph_tracker/ros/image_input.hpp"
@@ -46,6 +53,9 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onImage(const sensor_msgs::ImageConstPtr& image,
                const sensor_msgs::CameraInfoConstPtr& info);
   void onDepth(const sensor_msgs::ImageConstPtr& depth);
+  void onTracks(const scene_graph_tracker::TrackedObjectArray::ConstPtr& tracks);
+  // Whether the schedule detects on the image; if not, publishes its empty array.
+  bool scheduled(const std_msgs::Header& header);
   void detect(const RgbFrame& frame);  // detects on the frame and publishes its hypotheses
   void onUndecodable(const std::string& text);
   // The buffered depth image closest to `stamp` within depth_max_offset, as range measurements of
@@ -66,8 +76,11 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<DepthPairing> pairing_;
   ::ros::WallTimer pairing_timer_;  // ends a wait that no image or depth image ends
   PinholeRayCache depth_rays_;
-  struct Counts {  // under mutex_
+  ::ros::Subscriber tracks_sub_;
+  detection::DetectionSchedule schedule_;  // under mutex_
+  struct Counts {                          // under mutex_
     std::size_t images_in = 0, published = 0, skipped = 0, depth_unused = 0, hypotheses = 0;
+    std::size_t not_scheduled = 0;
     std::string last_problem;
   } counts_;
   ::ros::Publisher diagnostics_pub_;

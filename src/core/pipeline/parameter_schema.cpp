@@ -500,6 +500,16 @@ Schema<D> makeDetectorSchema() {
       number<D>("depth_max_wait", kDetection, DET(depth_max_wait), 0.0, 1.0, "s", kStart,
                 "how long an RGB image waits for its depth image when that may still come "
                 "(wall time; then its distances come from PnP alone); 0: never waits"),
+      number<D>("busy_interval", kDetection, DET(schedule.busy_interval_s), 0.0, 60.0, "s", kStart,
+                "detect an image at most this often while a track is tentative or there is none "
+                "(detection/detection_schedule.hpp); 0: every image"),
+      number<D>("settled_interval", kDetection, DET(schedule.settled_interval_s), 0.0, 60.0, "s",
+                kStart,
+                "... while every track is confirmed (the refinement carries them); images not "
+                "detected get an empty hypothesis array at once; 0: every image"),
+      number<D>("lost_backoff", kDetection, DET(schedule.lost_backoff), 0.0, 100.0, "", kStart,
+                "a lost or removed track asks for detection every max(busy_interval, this x "
+                "seconds gone), up to settled_interval"),
       text<D>("dnn_backend", kDetection, DET(inference.backend), true,
               "OpenCV DNN backend: opencv, cuda or default (cuda on a Jetson with a CUDA build "
               "of OpenCV; what the build cannot run falls back to opencv / cpu, with a warning)"),
