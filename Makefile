@@ -132,7 +132,7 @@ real: build
 	$(TOOLS)/sequence_to_bag --sequence $(REAL_SEQUENCE) --output $(REAL_OUTPUT)/sequence.bag --seed $(REAL_SEED) \
 	  --plane-map $(REAL_OUTPUT)/plane.ply
 	$(TOOLS)/evaluate --bag $(REAL_OUTPUT)/sequence.bag --output $(REAL_OUTPUT) --catalog $(REAL_CATALOG) \
-	  --mesh-dir $(REAL_SEQUENCE)/models --map $(REAL_OUTPUT)/plane.ply \
+	  --mesh-dir $(REAL_SEQUENCE)/models --map $(REAL_OUTPUT)/plane.ply --fit-alone \
 	  --odom-frame map --base-frame camera_color_optical_frame --localization external --no-relations --overlay \
 	  $(if $(REAL_DETECTOR),--detector $(REAL_DETECTOR)) $(REAL_EVALUATE_ARGS)
 	$(if $(REAL_DETECTOR),$(TOOLS)/sequence_to_dataset --sequence $(REAL_SEQUENCE) --catalog $(REAL_CATALOG) \

@@ -34,6 +34,8 @@
 //                                  tracked and given meshes' outlines on the colour images)
 //       [--surface-stride N]      (the depth residual on every N-th pixel in x and y; default 2,
 //                                  1 with --overlay)
+//       [--fit-alone]             (also the residual each matched track's mesh reaches fitted
+//                                  alone to the depth image from the track's pose)
 // Options: the structs' defaults, then the parameter files, then the flags:
 // --oracle-localization turns localize off, --no-relations relations/enabled,
 // and --detector turns search_orientations on, orientation_disputes,
@@ -85,6 +87,7 @@ struct Args {
   std::string detector_params = "package://scene_graph_tracker/config/detector.yaml";
   bool overlay = false;
   int surface_stride = 0;  // 0: 2, or 1 with the overlay
+  bool fit_alone = false;
 };
 
 // The topic a --*-topic flag names, or nullptr.
@@ -104,16 +107,17 @@ bool localizationMode(const sgt::cli::Flags& flags, const std::string& mode) {
 }
 
 Args parse(int argc, char** argv) {
-  const sgt::cli::Flags flags("evaluate",
-                              "--bag IN.bag --output DIR [--map building|FILE] "
-                              "[--furniture FILE] [--catalog FILE] "
-                              "[--mesh-dir DIR] [--no-plots] [--oracle-localization] "
-                              "[--localization own|external] [--odom-frame F] [--base-frame F] "
-                              "[--depth-topic T] [--depth-info-topic T] [--rgb-topic T] "
-                              "[--rgb-info-topic T] [--lidar-topic T] [--hypotheses-topic T] "
-                              "[--detector MODEL.yaml|default] "
-                              "[--scenario FILE] [--no-relations] [--params FILE] "
-                              "[--detector-params FILE] [--overlay] [--surface-stride N]");
+  const sgt::cli::Flags flags(
+      "evaluate",
+      "--bag IN.bag --output DIR [--map building|FILE] "
+      "[--furniture FILE] [--catalog FILE] "
+      "[--mesh-dir DIR] [--no-plots] [--oracle-localization] "
+      "[--localization own|external] [--odom-frame F] [--base-frame F] "
+      "[--depth-topic T] [--depth-info-topic T] [--rgb-topic T] "
+      "[--rgb-info-topic T] [--lidar-topic T] [--hypotheses-topic T] "
+      "[--detector MODEL.yaml|default] "
+      "[--scenario FILE] [--no-relations] [--params FILE] "
+      "[--detector-params FILE] [--overlay] [--surface-stride N] [--fit-alone]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag")
@@ -152,6 +156,8 @@ Args parse(int argc, char** argv) {
       a.detector_params = value();
     else if (k == "--overlay")
       a.overlay = true;
+    else if (k == "--fit-alone")
+      a.fit_alone = true;
     else if (k == "--surface-stride")
       a.surface_stride = std::stoi(value());
     else
@@ -585,8 +591,13 @@ void Evaluation::fitSurfaces(const sgt::ros::BagFrame& bf, const sgt::PipelineRe
   for (std::size_t i = 0; i < truth.size(); ++i) {
     if (truth_index[i] < 0) continue;
     const int k = match[i] >= 0 ? track_index[match[i]] : -1;
+    std::optional<double> alone;
+    if (k >= 0 && args_.fit_alone) {
+      sgt::PosedObject object = tracks[k];
+      alone = residual(surface_->fitAlone(*cam, object, tracker_params_.pipeline.refiner));
+    }
     report_.addSurfaceFit(r.stamp, truth[i].id, k >= 0 ? residual(track_fits[k]) : std::nullopt,
-                          residual(given_fits[truth_index[i]]));
+                          residual(given_fits[truth_index[i]]), alone);
   }
   if (overlay_ && bf.rgb)
     drawOverlay(*bf.rgb, tracks, track_fits, fits_.owner, given_owner, given.size());

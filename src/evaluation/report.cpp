@@ -29,6 +29,7 @@ double mean(const std::vector<double>& v) {
 struct ObjectStats {
   std::vector<double> add_s, add, t, r, add_or_adds;
   std::vector<double> depth_mm, gt_depth_mm;  // surface fits, where measured
+  std::vector<double> alone_mm, excess_mm;    // the mesh fitted alone; tracked minus that
   std::size_t evaluated = 0, correct = 0, missed = 0, out_of_view = 0, correct_add_or_adds = 0;
   std::size_t displaced = 0, turned = 0;  // wrong ADD(-S): a wrong place, or a wrong turn only
   void add_row(const std::optional<PoseErrors>& e, bool in_view) {
@@ -47,9 +48,12 @@ struct ObjectStats {
     correct += e->correct, correct_add_or_adds += e->correct_add_or_adds;
     if (!e->correct_add_or_adds) ++(e->displaced ? displaced : turned);
   }
-  void addFit(const std::optional<double>& tracked_m, const std::optional<double>& given_m) {
+  void addFit(const std::optional<double>& tracked_m, const std::optional<double>& given_m,
+              const std::optional<double>& alone_m) {
     if (tracked_m) depth_mm.push_back(*tracked_m * 1000);
     if (given_m) gt_depth_mm.push_back(*given_m * 1000);
+    if (alone_m) alone_mm.push_back(*alone_m * 1000);
+    if (tracked_m && alone_m) excess_mm.push_back((*tracked_m - *alone_m) * 1000);
   }
   double recall() const { return evaluated ? static_cast<double>(correct) / evaluated : 0.0; }
   double recallAddOrAdds() const {
@@ -75,6 +79,13 @@ struct ObjectStats {
         << jsonNumber(depth_mm.empty() ? NAN : quantile(depth_mm, 0.5)) << ",\n"
         << indent << "\"gt_depth_residual_median_mm\": "
         << jsonNumber(gt_depth_mm.empty() ? NAN : quantile(gt_depth_mm, 0.5));
+    if (!alone_mm.empty())
+      o << ",\n"
+        << indent << "\"depth_residual_alone_median_mm\": " << jsonNumber(quantile(alone_mm, 0.5))
+        << ",\n"
+        << indent << "\"depth_residual_excess_max_mm\": "
+        << jsonNumber(excess_mm.empty() ? NAN
+                                        : *std::max_element(excess_mm.begin(), excess_mm.end()));
     return o.str();
   }
 };
@@ -97,11 +108,12 @@ void EvaluationReport::addObject(double stamp, const std::string& id, const std:
 }
 
 void EvaluationReport::addSurfaceFit(double stamp, const std::string& truth_id,
-                                     std::optional<double> tracked_m,
-                                     std::optional<double> given_m) {
+                                     std::optional<double> tracked_m, std::optional<double> given_m,
+                                     std::optional<double> alone_m) {
   for (auto r = objects_.rbegin(); r != objects_.rend() && r->stamp == stamp; ++r)
     if (r->id == truth_id) {
       r->depth_residual_m = tracked_m, r->gt_depth_residual_m = given_m;
+      r->alone_depth_residual_m = alone_m;
       return;
     }
 }
@@ -212,8 +224,8 @@ std::string EvaluationReport::json() const {
   std::map<std::string, std::string> cls;
   for (const ObjectRow& r : objects_) {
     all.add_row(r.e, r.in_view), per[r.id].add_row(r.e, r.in_view), cls[r.id] = r.class_name;
-    all.addFit(r.depth_residual_m, r.gt_depth_residual_m);
-    per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m);
+    all.addFit(r.depth_residual_m, r.gt_depth_residual_m, r.alone_depth_residual_m);
+    per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m, r.alone_depth_residual_m);
   }
   std::vector<double> lt, lr, total, loc, refine, preseg, detect, relations;
   for (const FrameRow& f : frames_) {
@@ -343,7 +355,8 @@ std::string EvaluationReport::markdown() const {
 
 std::string EvaluationReport::surfaceMarkdown() const {
   std::map<std::string, ObjectStats> per;
-  for (const ObjectRow& r : objects_) per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m);
+  for (const ObjectRow& r : objects_)
+    per[r.id].addFit(r.depth_residual_m, r.gt_depth_residual_m, r.alone_depth_residual_m);
   std::ostringstream o;
   o << std::fixed << std::setprecision(2);
   bool any = false;
@@ -368,8 +381,8 @@ std::string EvaluationReport::timeseriesCsv() const {
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
        "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm,inliers,inlier_ratio,"
-       "confirmed,in_view,x,y,z,qx,qy,qz,qw\n";
-  const char* no_pose = ",,,,,,,";
+       "confirmed,in_view,x,y,z,qx,qy,qz,qw,alone_depth_residual_mm\n";
+  const char* no_pose = ",,,,,,,,";
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? jsonNumber(r.e->add_s * 1000) : "") << ","
@@ -378,7 +391,8 @@ std::string EvaluationReport::timeseriesCsv() const {
       << (r.e ? jsonNumber(r.e->rotation_deg) : "") << ",,,,,,,," << r.track << ","
       << (r.depth_residual_m ? jsonNumber(*r.depth_residual_m * 1000) : "") << ","
       << (r.gt_depth_residual_m ? jsonNumber(*r.gt_depth_residual_m * 1000) : "") << ",,,,"
-      << (r.in_view ? 1 : 0) << no_pose << "\n";
+      << (r.in_view ? 1 : 0) << ",,,,,,,,"
+      << (r.alone_depth_residual_m ? jsonNumber(*r.alone_depth_residual_m * 1000) : "") << "\n";
   for (const FalsePositiveRow& f : false_positives_)
     o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
       << f.track_id << ",,,,,," << no_pose << "\n";

@@ -62,6 +62,25 @@ std::vector<SurfaceFit> SurfaceFitter::fit(const RangeMeasurements& camera,
   return out;
 }
 
+SurfaceFit SurfaceFitter::fitAlone(const RangeMeasurements& camera, PosedObject& object,
+                                   const RefinerOptions& options) {
+  // The refiner works in the measurements' world frame; the fitter's scene in the camera's.
+  PosedObject in_world = object;
+  in_world.T_camera_object = camera.T_world_sensor * object.T_camera_object;
+  pose({in_world});
+  RefinerOptions own_rays = options;
+  own_rays.pull_radius = 0.0f;  // no map here: unexplained points are anything's
+  const ObjectRefiner refiner(own_rays);
+  const std::vector<RangeMeasurements> measurements{camera};
+  for (int pass = 0; pass < 2; ++pass) {
+    const RefineResult r = refiner.refine(scene_, {{kFirstNode, nullptr}}, measurements);
+    if (r.objects.empty()) break;
+    in_world.T_camera_object = r.objects.front().T_world_object;
+  }
+  object.T_camera_object = camera.T_world_sensor.inverse() * in_world.T_camera_object;
+  return fit(camera, {object}).front();
+}
+
 void drawOutlines(cv::Mat& image, const std::vector<int>& owner, std::size_t objects,
                   const std::vector<cv::Scalar>& colours, int thickness) {
   if (owner.size() != image.total() || colours.empty()) return;

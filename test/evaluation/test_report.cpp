@@ -67,7 +67,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
       << "recall with 3 digits (the goal is 0.99)\n"
       << r.markdown();
   EXPECT_TRUE(has(r.timeseriesCsv(), "object,3,klt_1,klt,30,40,"));
-  EXPECT_TRUE(has(r.timeseriesCsv(), "object,4,klt_1,klt,,,,,,,,,,,,,,,,,,0,,,,,,,\n"))
+  EXPECT_TRUE(has(r.timeseriesCsv(), "object,4,klt_1,klt,,,,,,,,,,,,,,,,,,0,,,,,,,,\n"))
       << "out of view, before the (track rows') pose columns\n"
       << r.timeseriesCsv();
 }
@@ -133,10 +133,20 @@ TEST(EvaluationReport, DepthResidualsAreMediansOverFramesPerObjectAndOverall) {
   EXPECT_TRUE(has(j, "\"gt_depth_residual_median_mm\": 6\n")) << j;  // the cube: 5, 7
   EXPECT_TRUE(has(j, "\"depth_residual_median_mm\": null")) << j;    // the dragon
   EXPECT_TRUE(has(r.markdown(), "| cube | 3 | 6 | 2 |")) << r.markdown();
-  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5,,,,1,,,,,,,\n")) << r.timeseriesCsv();
+  EXPECT_TRUE(has(r.timeseriesCsv(), ",cube_1,2,5,,,,1,,,,,,,,\n")) << r.timeseriesCsv();
+  EXPECT_FALSE(has(j, "depth_residual_alone")) << "no fit alone: no such keys";
   EvaluationReport none;
   none.addObject(0, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
   EXPECT_FALSE(has(none.json(), "depth_residual")) << "reports without fits keep their keys";
+  // With the mesh fitted alone: its median and the largest excess of the track over it.
+  EvaluationReport alone;
+  for (int k = 0; k < 3; ++k) {
+    alone.addObject(k, "cube", "cube", "cube_1", errors(0.002, 0.003, true));
+    alone.addSurfaceFit(k, "cube", 0.002 + 0.001 * k, 0.005, 0.002);
+  }
+  EXPECT_TRUE(has(alone.json(), "\"depth_residual_alone_median_mm\": 2,")) << alone.json();
+  EXPECT_TRUE(has(alone.json(), "\"depth_residual_excess_max_mm\": 2")) << alone.json();
+  EXPECT_TRUE(has(alone.timeseriesCsv(), ",1,,,,,,,,2\n")) << alone.timeseriesCsv();
 }
 
 // Without ground truth: per confirmed track the medians of its fit support, inlier ratio and depth
@@ -178,7 +188,7 @@ TEST(EvaluationReport, TrackFiguresNeedNoGroundTruth) {
   EXPECT_EQ(tracks, 4);
   EXPECT_TRUE(
       has(r.timeseriesCsv(),
-          "track,1,klt_1,klt,,,,,,,,,,,,klt_1,4,,300,0.7,1,,1,2,3,0,0,0.707106781,0.707106781\n"))
+          "track,1,klt_1,klt,,,,,,,,,,,,klt_1,4,,300,0.7,1,,1,2,3,0,0,0.707106781,0.707106781,\n"))
       << r.timeseriesCsv();
 }
 

@@ -47,9 +47,12 @@ class EvaluationReport {
   // depth image on the object's visible surface (evaluation/surface_fit.hpp): the median
   // |measured - rendered depth|, for the object's row of the frame at `stamp` (ignored when
   // addObject gave it none). objects.depth_residual_median_mm and
-  // objects.gt_depth_residual_median_mm are their medians.
+  // objects.gt_depth_residual_median_mm are their medians. `alone_m`: what the mesh alone reaches
+  // from the track's pose (SurfaceFitter::fitAlone); with it,
+  // objects.depth_residual_alone_median_mm and objects.depth_residual_excess_max_mm (the most the
+  // track's residual exceeded it in a frame).
   void addSurfaceFit(double stamp, const std::string& truth_id, std::optional<double> tracked_m,
-                     std::optional<double> given_m);
+                     std::optional<double> given_m, std::optional<double> alone_m = std::nullopt);
   void addLocalization(double stamp, double translation_m, double rotation_deg);
   // The depth noise a frame was processed with (PipelineResult::noise): its median over the frames
   // is sensors.depth_sigma_at_1m_median.
@@ -78,7 +81,7 @@ class EvaluationReport {
     std::optional<PoseErrors> e;
     bool in_view = true;
     std::string track;  // the track matched to the object ("" when none)
-    std::optional<double> depth_residual_m, gt_depth_residual_m;
+    std::optional<double> depth_residual_m, gt_depth_residual_m, alone_depth_residual_m;
   };
   struct FrameRow {
     double stamp;

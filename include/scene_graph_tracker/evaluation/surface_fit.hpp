@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_graph_tracker/registration/object_refiner.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
@@ -39,6 +40,12 @@ class SurfaceFitter {
   std::vector<SurfaceFit> fit(const RangeMeasurements& camera,
                               const std::vector<PosedObject>& objects,
                               std::vector<int>* owner = nullptr);
+  // What that mesh alone reaches on this depth image: `object` refined from its pose by an
+  // ObjectRefiner with `options`, with no other object and no map, on the rays that hit it only
+  // (no pulls: without a map every unexplained point would pull), twice (the second pass starts
+  // where the first converged); the fit of the refined pose. `object` keeps the refined pose.
+  SurfaceFit fitAlone(const RangeMeasurements& camera, PosedObject& object,
+                      const RefinerOptions& options = {});
 
  private:
   MeshId meshOf(const std::string& class_name);
