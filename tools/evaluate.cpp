@@ -349,9 +349,11 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
   const double detect_ms = detector_ ? detect(bf) : 0.0;
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;
-  std::vector<sgt::detection::ScheduledTrack> tracks;
-  for (const sgt::TrackedObject& o : r.objects) tracks.push_back({o.id, o.state});
-  schedule_.observe(r.stamp, tracks);
+  if (detector_) {
+    std::vector<sgt::detection::ScheduledTrack> tracks;
+    for (const sgt::TrackedObject& o : r.objects) tracks.push_back({o.id, o.state});
+    schedule_.observe(r.stamp, tracks);
+  }
   report_.addFrame(r.stamp, r.times);
   report_.addDepthNoise(r.noise.depth_sigma_at_1m);
   fitTracks(bf, r);

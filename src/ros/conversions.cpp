@@ -1,6 +1,7 @@
 #include "scene_graph_tracker/ros/conversions.hpp"
 
 #include <cv_bridge/cv_bridge.h>
+#include <scene_graph_tracker/TrackedObject.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -335,6 +336,18 @@ cv::Mat rgbFromImage(const sensor_msgs::Image& img, const PinholeModel& cam) {
   } catch (const cv_bridge::Exception& e) {
     throw ConversionError(std::string("colour image: ") + e.what());
   }
+}
+
+std::uint8_t toStateCode(TrackState s) {
+  return s == TrackState::kTentative   ? scene_graph_tracker::TrackedObject::TENTATIVE
+         : s == TrackState::kConfirmed ? scene_graph_tracker::TrackedObject::CONFIRMED
+                                       : scene_graph_tracker::TrackedObject::LOST;
+}
+
+TrackState fromStateCode(std::uint8_t code) {
+  return code == scene_graph_tracker::TrackedObject::CONFIRMED ? TrackState::kConfirmed
+         : code == scene_graph_tracker::TrackedObject::LOST    ? TrackState::kLost
+                                                               : TrackState::kTentative;
 }
 
 }  // namespace sgt::ros

@@ -150,12 +150,7 @@ std::unique_ptr<RangeMeasurements> DetectorNodelet::registeredDepth(const ::ros:
 
 void DetectorNodelet::onTracks(const scene_graph_tracker::TrackedObjectArray::ConstPtr& msg) {
   std::vector<detection::ScheduledTrack> tracks;
-  for (const auto& t : msg->objects) {
-    const TrackState state = t.state == t.CONFIRMED ? TrackState::kConfirmed
-                             : t.state == t.LOST    ? TrackState::kLost
-                                                    : TrackState::kTentative;
-    tracks.push_back({t.id, state});
-  }
+  for (const auto& t : msg->objects) tracks.push_back({t.id, fromStateCode(t.state)});
   std::lock_guard<std::mutex> lock(mutex_);
   schedule_.observe(msg->header.stamp.toSec(), tracks);
 }

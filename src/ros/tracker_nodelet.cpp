@@ -44,12 +44,6 @@ std_msgs::ColorRGBA colour(TrackState s) {
   return c;
 }
 
-std::uint8_t stateCode(TrackState s) {
-  return s == TrackState::kTentative   ? scene_graph_tracker::TrackedObject::TENTATIVE
-         : s == TrackState::kConfirmed ? scene_graph_tracker::TrackedObject::CONFIRMED
-                                       : scene_graph_tracker::TrackedObject::LOST;
-}
-
 }  // namespace
 
 // A failed start (a bad parameter, a map or catalog that does not load) throws to the nodelet
@@ -338,7 +332,7 @@ void TrackerNodelet::publish(const PipelineResult& r, const ::ros::Time& stamp) 
 scene_graph_tracker::TrackedObject TrackerNodelet::trackedObjectMessage(
     const TrackedObject& o, const TrackedObject* parent) const {
   scene_graph_tracker::TrackedObject t;
-  t.id = o.id, t.class_name = o.class_name, t.state = stateCode(o.state),
+  t.id = o.id, t.class_name = o.class_name, t.state = toStateCode(o.state),
   t.parent = parent ? o.parent : map_frame_;
   t.pose.pose = toPose(o.T_map_object);
   for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);

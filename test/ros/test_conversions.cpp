@@ -1,5 +1,6 @@
 // Message <-> core conversions: round trips and the errors bad messages must give.
 #include <gtest/gtest.h>
+#include <scene_graph_tracker/TrackedObject.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -270,6 +271,14 @@ TEST(Conversions, ACameraInfoBeyondAnyCameraIsRejectedBeforeAnythingIsAllocated)
   sensor_msgs::CameraInfo inf = toCameraInfo(cam);
   inf.K[2] = std::numeric_limits<double>::infinity();
   EXPECT_THROW(toPinhole(inf), ConversionError);
+}
+
+// The tracker publishes track states as codes, the detector's schedule reads them back.
+TEST(Conversions, TrackStatesRoundTripThroughTheirCodes) {
+  for (TrackState s : {TrackState::kTentative, TrackState::kConfirmed, TrackState::kLost})
+    EXPECT_EQ(fromStateCode(toStateCode(s)), s) << toString(s);
+  EXPECT_EQ(toStateCode(TrackState::kConfirmed), scene_graph_tracker::TrackedObject::CONFIRMED);
+  EXPECT_EQ(fromStateCode(200), TrackState::kTentative);
 }
 
 }  // namespace

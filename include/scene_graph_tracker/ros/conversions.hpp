@@ -11,12 +11,14 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <vector>
 
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
+#include "scene_graph_tracker/tracking/track_lifecycle.hpp"
 
 namespace sgt::ros {
 
@@ -28,6 +30,10 @@ Eigen::Isometry3d toEigen(const geometry_msgs::Pose& p);
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t);
 geometry_msgs::Pose toPose(const Eigen::Isometry3d& T);
 geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T);
+// TrackedObject.state codes (TENTATIVE, CONFIRMED, LOST; a removed track is never published) and
+// back; an unknown code reads as tentative.
+std::uint8_t toStateCode(TrackState s);
+TrackState fromStateCode(std::uint8_t code);
 
 // Pinhole model from camera_info: K, and D when it is plumb_bob (its rays then come from the
 // distorted model); another distortion model with non-zero D throws (rectify the images).
