@@ -551,10 +551,15 @@ void Evaluation::fitTracks(const sgt::ros::BagFrame& bf, const sgt::PipelineResu
   std::size_t confirmed = 0;
   for (std::size_t k = 0; k < r.objects.size(); ++k) {
     const sgt::TrackedObject& o = r.objects[k];
-    sgt::TrackSample s{r.stamp,           o.id,
-                       o.class_name,      o.state != sgt::TrackState::kTentative,
-                       o.quality.inliers, o.quality.inlier_ratio,
-                       std::nullopt,      o.T_map_object};
+    sgt::TrackSample s{r.stamp,
+                       o.id,
+                       o.class_name,
+                       o.state != sgt::TrackState::kTentative,
+                       o.quality.inliers,
+                       o.quality.inlier_ratio,
+                       std::nullopt,
+                       o.T_map_object,
+                       o.orientation_confidence};
     const int i = fits_.index[k];
     if (i >= 0 && fits_.fits[i].visible_pixels > 0)
       s.depth_residual_m = fits_.fits[i].median_residual_m;

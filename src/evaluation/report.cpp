@@ -99,7 +99,7 @@ void EvaluationReport::addFrame(double stamp, const StageTimes& times) {
 void EvaluationReport::addObject(double stamp, const std::string& id, const std::string& cls,
                                  const std::string& track, const std::optional<PoseErrors>& e,
                                  bool in_view) {
-  objects_.push_back({stamp, id, cls, e, in_view, track, std::nullopt, std::nullopt});
+  objects_.push_back({stamp, id, cls, e, in_view, track, std::nullopt, std::nullopt, std::nullopt});
   if (!in_view) return;
   if (track.empty()) return;
   std::string& last = last_track_[id];
@@ -381,8 +381,8 @@ std::string EvaluationReport::timeseriesCsv() const {
   o << "kind,stamp,id,class,add_s_mm,add_mm,t_mm,r_deg,localize_ms,associate_ms,refine_ms,"
        "presegment_ms,total_ms,"
        "loc_t_mm,loc_r_deg,track,depth_residual_mm,gt_depth_residual_mm,inliers,inlier_ratio,"
-       "confirmed,in_view,x,y,z,qx,qy,qz,qw,alone_depth_residual_mm\n";
-  const char* no_pose = ",,,,,,,,";
+       "confirmed,in_view,x,y,z,qx,qy,qz,qw,alone_depth_residual_mm,orientation_confidence\n";
+  const char* no_pose = ",,,,,,,,,";  // pose, alone residual, confidence
   for (const ObjectRow& r : objects_)
     o << "object," << r.stamp << "," << r.id << "," << r.class_name << ","
       << (r.e ? jsonNumber(r.e->add_s * 1000) : "") << ","
@@ -392,7 +392,7 @@ std::string EvaluationReport::timeseriesCsv() const {
       << (r.depth_residual_m ? jsonNumber(*r.depth_residual_m * 1000) : "") << ","
       << (r.gt_depth_residual_m ? jsonNumber(*r.gt_depth_residual_m * 1000) : "") << ",,,,"
       << (r.in_view ? 1 : 0) << ",,,,,,,,"
-      << (r.alone_depth_residual_m ? jsonNumber(*r.alone_depth_residual_m * 1000) : "") << "\n";
+      << (r.alone_depth_residual_m ? jsonNumber(*r.alone_depth_residual_m * 1000) : "") << ",\n";
   for (const FalsePositiveRow& f : false_positives_)
     o << "false_positive," << f.stamp << "," << f.track_id << "," << f.class_name << ",,,,,,,,,,,,"
       << f.track_id << ",,,,,," << no_pose << "\n";

@@ -95,7 +95,7 @@ std::string TrackFigures::csvRows() const {
     o << "track," << s.stamp << "," << s.id << "," << s.class_name << ",,,,,,,,,,,," << s.id << ","
       << (s.depth_residual_m ? jsonNumber(*s.depth_residual_m * 1000) : "") << ",," << s.inliers
       << "," << jsonNumber(s.inlier_ratio) << "," << (s.confirmed ? 1 : 0) << ","
-      << poseColumns(s.T_map_object) << ",\n";
+      << poseColumns(s.T_map_object) << ",," << jsonNumber(s.orientation_confidence) << "\n";
   return o.str();
 }
 

@@ -337,6 +337,7 @@ scene_graph_tracker::TrackedObject TrackerNodelet::trackedObjectMessage(
   t.pose.pose = toPose(o.T_map_object);
   for (int i = 0; i < 36; ++i) t.pose.covariance[i] = o.covariance(i / 6, i % 6);
   t.inlier_ratio = static_cast<float>(o.quality.inlier_ratio), t.inliers = o.quality.inliers;
+  t.orientation_confidence = static_cast<float>(o.orientation_confidence);
   return t;
 }
 

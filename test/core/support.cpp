@@ -3,6 +3,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
+
+#include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/simulation/noise.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace fs = std::filesystem;
 
@@ -101,6 +106,54 @@ PinholeModel qvgaCam() {
   PinholeModel cam = PinholeModel::xtion();
   cam.width = 320, cam.height = 240, cam.fx = cam.fy = 262.5, cam.cx = 159.5, cam.cy = 119.5;
   return cam;
+}
+
+StandingView standingView(double distance) {
+  StandingView v;
+  v.bench = benchScene();
+  v.rays = std::make_shared<SensorRays>(makeRays(v.cam));
+  std::tie(v.T_map_base, v.T_camera) = facingTheBench(*v.bench, distance);
+  v.scan = simulate(*v.bench->world, *v.rays, v.T_camera);
+  return v;
+}
+
+PipelineFrame depthFrame(int f, const Eigen::Isometry3d& T_map_base, const PinholeModel& cam,
+                         const std::shared_ptr<SensorRays>& rays, const SimulatedScan& scan,
+                         const Eigen::Isometry3d& T_camera, double sigma, unsigned seed) {
+  PipelineFrame frame;
+  frame.stamp = f / 30.0;
+  frame.T_odom_base = T_map_base;
+  frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_camera));
+  addDepthNoise(frame.measurements.back(), sigma, seed);
+  return frame;
+}
+
+const ObjectCatalog& packageCatalog() {
+  static const ObjectCatalog c =
+      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
+  return c;
+}
+
+std::unique_ptr<RaycastScene> objectOnTable(const ObjectClass& object, NodeId node,
+                                            const Eigen::Isometry3d& T_world_object) {
+  auto scene = std::make_unique<RaycastScene>();
+  TriangleMesh table = makeBox({1.6f, 0.8f, 0.04f});
+  table.transform(Eigen::Isometry3f(Eigen::Translation3f(0, 0, 0.73f)));
+  scene->setStaticMap(std::make_shared<TriangleMesh>(table), 1);
+  scene->addInstance(node, scene->addMesh(object.mesh), T_world_object);
+  scene->commit();
+  return scene;
+}
+
+RangeMeasurements xtionView(const RaycastScene& scene, const Eigen::Vector3d& eye,
+                            const Eigen::Vector3d& target, double sigma_at_1m, unsigned seed) {
+  const PinholeModel camera = PinholeModel::xtion();
+  const auto rays = std::make_shared<SensorRays>(makeRays(camera));
+  const Eigen::Isometry3d T_world_camera = opticalLookAt(eye, target);
+  RangeMeasurements m = fromDepthImage(
+      camera, rays, depthImage(simulate(scene, *rays, T_world_camera), *rays), T_world_camera);
+  addDepthNoise(m, sigma_at_1m, seed);
+  return m;
 }
 
 }  // namespace sgt::test

@@ -9,10 +9,13 @@
 #include <string>
 #include <utility>
 
+#include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
+#include "scene_graph_tracker/sensors/range_measurements.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
+#include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::test {
 
@@ -61,5 +64,33 @@ PinholeModel qvgaCam();
 
 // Angle of the rotation between two orientations, degrees.
 double rotationErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
+// The bench as the camera of a robot standing `distance` m in front of it sees it (one scan).
+struct StandingView {
+  std::unique_ptr<BenchScene> bench;
+  PinholeModel cam = PinholeModel::xtion();
+  std::shared_ptr<SensorRays> rays;
+  Eigen::Isometry3d T_map_base, T_camera;
+  SimulatedScan scan;
+};
+StandingView standingView(double distance);
+
+// Frame f (30 Hz) from a robot standing at T_map_base: the scan's depth image, with depth noise
+// of `sigma` at 1 m.
+PipelineFrame depthFrame(int f, const Eigen::Isometry3d& T_map_base, const PinholeModel& cam,
+                         const std::shared_ptr<SensorRays>& rays, const SimulatedScan& scan,
+                         const Eigen::Isometry3d& T_camera, double sigma, unsigned seed);
+
+// The package's catalog (config/objects.yaml), loaded once per test program.
+const ObjectCatalog& packageCatalog();
+
+// A 1.6 x 0.8 m table top (static map, node 1; top at z 0.75) with `object` at `T_world_object`
+// (node `node`), committed.
+std::unique_ptr<RaycastScene> objectOnTable(const ObjectClass& object, NodeId node,
+                                            const Eigen::Isometry3d& T_world_object);
+// The Xtion's depth image of `scene` from `eye` looking at `target`, with structured-light noise
+// of sigma_at_1m (seed `seed`).
+RangeMeasurements xtionView(const RaycastScene& scene, const Eigen::Vector3d& eye,
+                            const Eigen::Vector3d& target, double sigma_at_1m, unsigned seed);
 
 }  // namespace sgt::test

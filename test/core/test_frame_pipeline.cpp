@@ -170,19 +170,6 @@ Eigen::Isometry3d quarterTurned(Eigen::Isometry3d T) {
   return T.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
 }
 
-// Frame f (30 Hz) from a robot standing at T_map_base: the scan's depth image, with depth noise
-// of `sigma` at 1 m.
-PipelineFrame depthFrame(int f, const Eigen::Isometry3d& T_map_base, const PinholeModel& cam,
-                         const std::shared_ptr<SensorRays>& rays, const SimulatedScan& scan,
-                         const Eigen::Isometry3d& T_camera, double sigma, unsigned seed) {
-  PipelineFrame frame;
-  frame.stamp = f / 30.0;
-  frame.T_odom_base = T_map_base;
-  frame.measurements.push_back(fromDepthImage(cam, rays, depthImage(scan, *rays), T_camera));
-  addDepthNoise(frame.measurements.back(), sigma, seed);
-  return frame;
-}
-
 // The bench with one unknown thing added (node 30), as the standing robot's camera sees it; a
 // frame of that view at 30 Hz with fresh depth noise.
 struct UnknownThingView {
@@ -201,8 +188,8 @@ struct UnknownThingView {
     scan = simulate(*bench->world, *rays, bench->T_map_base * bench->T_base_camera);
   }
   PipelineFrame frame(int f, unsigned noise_seed) const {
-    return depthFrame(f, bench->T_map_base, cam, rays, scan,
-                      bench->T_map_base * bench->T_base_camera, 0.0015, noise_seed + f);
+    return test::depthFrame(f, bench->T_map_base, cam, rays, scan,
+                            bench->T_map_base * bench->T_base_camera, 0.0015, noise_seed + f);
   }
 };
 
@@ -378,8 +365,8 @@ std::pair<double, bool> multimeterLetGoIntoTheKlt(double unseen_drop_m) {
   FramePipeline pipeline(bench->catalog, bench->map, options);
   double error = std::numeric_limits<double>::infinity();
   for (int f = 0; f < 90; ++f) {  // held above for 1 s, then in the crate for 2 s
-    PipelineFrame frame =
-        depthFrame(f, T_map_base, cam, rays, scans[f < 30 ? 0 : 1], T_map_camera, 0.0015, 300 + f);
+    PipelineFrame frame = test::depthFrame(f, T_map_base, cam, rays, scans[f < 30 ? 0 : 1],
+                                           T_map_camera, 0.0015, 300 + f);
     frame.hypotheses.push_back({"klt", T_map_base.inverse() * bench->truth[klt], 0.9});
     if (f < 30) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * T_above, 0.9});
     error = std::numeric_limits<double>::infinity();
@@ -461,7 +448,8 @@ double farScrewdriverError(int min_weak_fit_inliers, int* fewest_inliers) {
   int counted = 0;
   *fewest_inliers = 1 << 30;
   for (int f = 0; f < 45; ++f) {
-    PipelineFrame frame = depthFrame(f, T_map_base, cam, rays, scan, T_camera, 0.0005, 1300 + f);
+    PipelineFrame frame =
+        test::depthFrame(f, T_map_base, cam, rays, scan, T_camera, 0.0005, 1300 + f);
     frame.hypotheses.push_back({"screwdriver", T_map_base.inverse() * detected, 0.9});
     const PipelineResult r = pipeline.process(frame);
     for (const TrackedObject& o : r.objects) {
@@ -557,13 +545,10 @@ TEST(FramePipeline, AConfirmedTrackThatExplainsTooLittleIsSearchedAgain) {
 // degrees of error on this view either way). Without disputes it keeps the turn. Returns the
 // final error (deg).
 double disputedMaterialBoxErrorDeg(int orientation_disputes, int turned_frames = 60) {
-  const auto bench = test::benchScene();
+  const test::StandingView v = test::standingView(1.1);
+  const auto& [bench, cam, rays, T_map_base, T_camera, scan] = v;
   const Eigen::Isometry3d& truth = bench->truth[2];  // the material box
   const Eigen::Isometry3d turned = quarterTurned(truth);
-  const PinholeModel cam = PinholeModel::xtion();
-  const auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const auto [T_map_base, T_camera] = test::facingTheBench(*bench, 1.1);
-  const SimulatedScan scan = simulate(*bench->world, *rays, T_camera);
   PipelineOptions options;
   options.localize = false;
   options.research_below_fit_support = 0.0;
@@ -572,7 +557,8 @@ double disputedMaterialBoxErrorDeg(int orientation_disputes, int turned_frames =
   FramePipeline pipeline(bench->catalog, bench->map, options);
   double error = 180.0;
   for (int f = 0; f < 120; ++f) {
-    PipelineFrame frame = depthFrame(f, T_map_base, cam, rays, scan, T_camera, 0.0015, 2500 + f);
+    PipelineFrame frame =
+        test::depthFrame(f, T_map_base, cam, rays, scan, T_camera, 0.0015, 2500 + f);
     frame.hypotheses.push_back(
         {"materialbox", T_map_base.inverse() * (f < turned_frames ? turned : truth), 0.9});
     for (const TrackedObject& o : pipeline.process(frame).objects)

@@ -36,25 +36,14 @@ TEST(OrientationSearch, CandidatesTurnAboutTheBoxCentre) {
 class MixedUpAxes : public ::testing::TestWithParam<std::tuple<const char*, int>> {};
 
 TEST_P(MixedUpAxes, TheMeasurementsPickTheTrueOrientation) {
-  const ObjectCatalog catalog =
-      loadObjectCatalog(std::string(SGT_SOURCE_DIR) + "/config/objects.yaml");
   const auto [class_name, turn] = GetParam();
-  const ObjectClass& c = catalog.get(class_name);
-  RaycastScene scene;
-  TriangleMesh table = makeBox({1.6f, 0.8f, 0.04f});
-  table.transform(Eigen::Isometry3f(Eigen::Translation3f(0, 0, 0.73f)));
-  scene.setStaticMap(std::make_shared<TriangleMesh>(table), 1);
+  const ObjectClass& c = test::packageCatalog().get(class_name);
   const NodeId node = 10;
   const Eigen::Isometry3d truth =
       test::poseXyzYaw(Eigen::Vector3d(0.05, 0.0, 0.75 - c.box.min().z() + 0.001), 0.3);
-  scene.addInstance(node, scene.addMesh(c.mesh), truth);
-  scene.commit();
-  const PinholeModel camera = PinholeModel::xtion();
-  const auto rays = std::make_shared<SensorRays>(makeRays(camera));
-  const Eigen::Isometry3d T_world_camera = opticalLookAt({0.0, 0.8, 1.35}, {0.0, 0.0, 0.75});
-  RangeMeasurements m = fromDepthImage(
-      camera, rays, depthImage(simulate(scene, *rays, T_world_camera), *rays), T_world_camera);
-  addDepthNoise(m, 0.0015, 7);
+  const auto scene_ptr = test::objectOnTable(c, node, truth);
+  RaycastScene& scene = *scene_ptr;
+  const RangeMeasurements m = test::xtionView(scene, {0.0, 0.8, 1.35}, {0.0, 0.0, 0.75}, 0.0015, 7);
 
   // The detection: the truth turned by one of the box's axis permutations, 1 cm off.
   const auto rotations = cuboidRotations();

@@ -21,6 +21,7 @@ struct TrackSample {
   double inlier_ratio = 0.0;
   std::optional<double> depth_residual_m;  // nullopt: no visible pixel
   Eigen::Isometry3d T_map_object = Eigen::Isometry3d::Identity();
+  double orientation_confidence = 1.0;  // TrackedObject::orientation_confidence
 };
 
 // The timeseries.csv pose columns x, y, z, qx, qy, qz, qw of `T`, each after a comma.

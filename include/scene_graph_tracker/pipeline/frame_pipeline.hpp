@@ -21,6 +21,7 @@
 #include "scene_graph_tracker/pipeline/pipeline_options.hpp"
 #include "scene_graph_tracker/registration/localizer.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
+#include "scene_graph_tracker/registration/twin_evidence.hpp"
 #include "scene_graph_tracker/relations/relation_hysteresis.hpp"
 #include "scene_graph_tracker/relations/scene_relations.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
@@ -59,6 +60,9 @@ struct TrackedObject {
   double first_seen = 0.0, last_refined = 0.0, last_hypothesis = 0.0;
   int hits = 0;        // good fits that counted towards confirmation
   int detections = 0;  // hypotheses associated with it (a track added by hand counts as confirmed)
+  // How sure its orientation is against its near twins (TwinBelief::confidence): 1 for a class
+  // without twins or with twin tests off, 1 / (1 + twins) before any evidence.
+  double orientation_confidence = 1.0;
 };
 
 struct StageTimes {
@@ -138,6 +142,7 @@ class FramePipeline {
       bool search_orientation = false;
     };
     std::optional<Contest> contested_by = std::nullopt;
+    TwinBelief twins = TwinBelief{};  // evidence for its near twins (twin_tests_per_frame)
   };
   // Stages of process().
   void localize(PipelineFrame& frame, PipelineResult& out);
@@ -211,6 +216,11 @@ class FramePipeline {
   // Tracks whose orientation detections contest: the detection's pose against the track's.
   void settleDisputes(const std::vector<RangeMeasurements>& sets, double stamp);
   void noteDispute(Track& t, const Eigen::Isometry3d& T_detected);
+  // Up to twin_tests_per_frame confirmed tracks (in turn) weigh their near twins; a track turns
+  // to one the evidence has come to favour. frame_pipeline_twins.cpp.
+  void weighTwins(const std::vector<RangeMeasurements>& sets);
+  void turnToTwin(Track& t, const Eigen::Isometry3d& T_map_object);
+  const std::vector<Eigen::Isometry3d>& twinsOf(const std::string& class_name);
   // Of the tracks in needs_orientation_.
   void searchOrientations(const std::vector<RangeMeasurements>& sets, double stamp);
   std::vector<std::size_t> parentsFirst() const;  // track indices, every parent before its children
@@ -227,6 +237,8 @@ class FramePipeline {
   std::map<std::string, int> class_count_;
   std::vector<Track> tracks_;
   std::vector<std::string> needs_orientation_;  // track ids confirmed or restarted: search next
+  std::map<std::string, std::vector<Eigen::Isometry3d>> class_twins_;  // near twins, by class
+  std::size_t twin_cursor_ = 0;  // the next track whose twins are weighed
   double last_stamp_ = -1.0;
   Eigen::Isometry3d T_map_odom_ = Eigen::Isometry3d::Identity();
   RangeNoise noise_;  // the configured noise, then what the frames measure

@@ -131,6 +131,18 @@ struct PipelineOptions {
   // orientation_search_interval_s): a wrong turn explains fewer of its rays than the right one.
   // 0 turns it off.
   double research_below_fit_support = 0.9;
+  // Near twins (registration/twin_evidence.hpp): the turns of a class's box under which its surface
+  // lies within twin_max_surface_fraction of its diameter of itself, in the mean (the material
+  // box, multimeter and relay turned by half a turn about their vertical axes). Every frame up to
+  // twin_tests_per_frame confirmed, well-fitted tracks (in turn) weigh their pose against their
+  // twins' on the depth; a track turns to a twin whose accumulated log odds (each frame's clipped
+  // to twin_frame_cap, older ones kept by twin_retain per test) exceed twin_switch_log_odds.
+  // 0 tests: off. (The surface fraction and the retained share are no parameters of the node.)
+  int twin_tests_per_frame = 0;
+  double twin_max_surface_fraction = 0.02;
+  double twin_switch_log_odds = 12.0;
+  double twin_frame_cap = 3.0;
+  double twin_retain = 0.9;
   // Orientation disputes (tracking/track_lifecycle.hpp, OrientationDispute): a hypothesis turned
   // more than this from its track (up to symmetries) disputes the track's orientation; this many
   // in a row make the detection's pose compete with the track's (0: off).

@@ -121,6 +121,7 @@ void FramePipeline::setOptions(const PipelineOptions& o) {
   if (o.presegmentation.noise.depth_sigma_at_1m != before.depth_sigma_at_1m ||
       o.presegmentation.noise.range_sigma != before.range_sigma || !o.measure_depth_noise)
     noise_ = o.presegmentation.noise;  // a new setting starts the measurement again
+  if (o.twin_max_surface_fraction != options_.twin_max_surface_fraction) class_twins_.clear();
   options_ = o;
 }
 
@@ -205,6 +206,7 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
   const RefineResult r = ObjectRefiner(refiner).refine(scene_, targets, sets);
   updateTracks(r, sets, stamp, dropped);
   scene_.commit();
+  weighTwins(sets);
 }
 
 std::vector<Presegmentation> FramePipeline::presegmentAll(
@@ -233,6 +235,7 @@ std::vector<TrackedObject> FramePipeline::snapshot() const {
     o.detections = t.life.detections;
     o.last_hypothesis = t.life.last_hypothesis;
     o.parent = trackIdOf(graph_.node(t.out.node).parent);
+    o.orientation_confidence = t.twins.confidence();
     objects.push_back(std::move(o));
   }
   return objects;
@@ -252,6 +255,8 @@ std::string FramePipeline::addTrack(const std::string& class_name,
   o.covariance = C;
   o.first_seen = t.life.last_hypothesis = stamp;
   t.life.detections = options_.confirm_detections;  // by hand: trusted like a detected object
+  if (options_.twin_tests_per_frame > 0) t.twins.reset(twinsOf(class_name).size());
+  t.twins.R_world_object = T_map_object.linear();
   scene_.addInstance(o.node, class_mesh_.at(class_name), T_map_object);
   scene_.commit();
   tracks_.push_back(std::move(t));

@@ -336,6 +336,14 @@ Schema<T> orientationParams() {
       number<T>("research_below_fit_support", kRefinement, PIPE(research_below_fit_support), 0.0,
                 1.0, "", kRuntime,
                 "a confirmed track whose fit support stays below this is searched again (0: off)"),
+      number<T>("twin_tests_per_frame", kRefinement, PIPE(twin_tests_per_frame), 0, 1000, "",
+                kRuntime,
+                "confirmed tracks per frame (in turn) whose pose is weighed against its near "
+                "twins' on the depth (0: off)"),
+      number<T>("twin_switch_log_odds", kRefinement, PIPE(twin_switch_log_odds), 0.0, 1000.0, "",
+                kRuntime, "a track turns to a twin whose accumulated log odds exceed this"),
+      number<T>("twin_frame_cap", kRefinement, PIPE(twin_frame_cap), 0.0, 1000.0, "", kRuntime,
+                "one frame's log likelihood ratio counts at most this much"),
       number<T>("orientation_dispute_deg", kRefinement, PIPE(orientation_dispute_deg), 0.0, 180.0,
                 "deg", kRuntime,
                 "a hypothesis turned more than this from its track (up to symmetries) disputes "
