@@ -138,7 +138,7 @@ struct PipelineOptions {
   // twins' on the depth; a track turns to a twin whose accumulated log odds (each frame's clipped
   // to twin_frame_cap, older ones kept by twin_retain per test) exceed twin_switch_log_odds.
   // 0 tests: off. (The surface fraction and the retained share are no parameters of the node.)
-  int twin_tests_per_frame = 0;
+  int twin_tests_per_frame = 2;
   double twin_max_surface_fraction = 0.02;
   double twin_switch_log_odds = 12.0;
   double twin_frame_cap = 3.0;

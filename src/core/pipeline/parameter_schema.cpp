@@ -339,11 +339,11 @@ Schema<T> orientationParams() {
       number<T>("twin_tests_per_frame", kRefinement, PIPE(twin_tests_per_frame), 0, 1000, "",
                 kRuntime,
                 "confirmed tracks per frame (in turn) whose pose is weighed against its near "
-                "twins' on the depth (0: off)"),
+                "twins on the depth (0: off)"),
       number<T>("twin_switch_log_odds", kRefinement, PIPE(twin_switch_log_odds), 0.0, 1000.0, "",
                 kRuntime, "a track turns to a twin whose accumulated log odds exceed this"),
       number<T>("twin_frame_cap", kRefinement, PIPE(twin_frame_cap), 0.0, 1000.0, "", kRuntime,
-                "one frame's log likelihood ratio counts at most this much"),
+                "the score of one frame counts at most this much towards a twin"),
       number<T>("orientation_dispute_deg", kRefinement, PIPE(orientation_dispute_deg), 0.0, 180.0,
                 "deg", kRuntime,
                 "a hypothesis turned more than this from its track (up to symmetries) disputes "
