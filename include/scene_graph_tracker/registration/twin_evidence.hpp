@@ -60,7 +60,7 @@ TwinEvidence twinLogLikelihoodRatios(RaycastScene& scene, NodeId node,
 // Each frame counts its score (TwinEvidence::z) beyond kNoiseScore, clipped to +-frame_cap: a
 // frame's rays are not independent (a depth camera's errors are correlated over an object), so
 // no one frame decides, and a far object's ratio, a few nats either way with scores within about
-// one of zero (the simulated suite's material box at 2.3 m: -1.8 to 2.5), counts for nothing. Older
+// one of zero (the simulated suite's material box at 2.3 m: -1.8 to 2.5), counts little. Older
 // evidence fades by `retain` per update, so an object turned by a hand later is followed.
 struct TwinBelief {
   std::vector<double> log_odds;  // one per twin
