@@ -66,10 +66,7 @@ double symmetricRotationErrorDeg(const Symmetry& symmetry, const Eigen::Matrix3d
     }
     return deg;
   }
-  for (const Eigen::Isometry3d& S : symmetry.sampled())
-    deg = std::min(
-        deg, Eigen::AngleAxisd(R_est.transpose() * R_true * S.linear()).angle() * 180.0 / M_PI);
-  return deg;
+  return angleUpToSymmetries(R_est, R_true, symmetry.sampled()) * 180.0 / M_PI;
 }
 
 PoseErrors poseErrors(const ObjectClass& object, const std::vector<Eigen::Vector3f>& pts,

@@ -32,6 +32,11 @@ struct Symmetry {
   std::vector<Eigen::Isometry3d> sampled(double continuous_step_rad = M_PI / 36.0) const;
 };
 
+// The smallest angle (rad) between rotation a and b * S over `symmetries` (Symmetry::sampled(),
+// identity first): how far apart two orientations of a symmetric object are.
+double angleUpToSymmetries(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
+                           const std::vector<Eigen::Isometry3d>& symmetries);
+
 struct ObjectClass {
   std::string name;
   std::string mesh_path;  // resolved file path

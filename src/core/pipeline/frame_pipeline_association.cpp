@@ -92,22 +92,10 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
   }
 }
 
-namespace {
-
-// Angle between two rotations up to the object's symmetries.
-double rotationDistance(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b, const Symmetry& s) {
-  double best = M_PI;
-  for (const Eigen::Isometry3d& S : s.sampled())
-    best = std::min(best, Eigen::AngleAxisd(a.transpose() * b * S.linear()).angle());
-  return best;
-}
-
-}  // namespace
-
 void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {
   const LifecycleOptions lo = lifecycleOptions();
-  const double angle = rotationDistance(t.out.T_map_object.linear(), T_detected.linear(),
-                                        catalog_->get(t.out.class_name).symmetry);
+  const double angle = angleUpToSymmetries(t.out.T_map_object.linear(), T_detected.linear(),
+                                           catalog_->get(t.out.class_name).symmetry.sampled());
   t.life.orientation_disputes = OrientationDispute::next(t.life.orientation_disputes, angle, lo);
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   t.life.position_disputes =

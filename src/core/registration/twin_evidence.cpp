@@ -10,15 +10,6 @@
 namespace sgt {
 namespace {
 
-// Smallest angle between two rotations up to the declared symmetries.
-double angleUpToSymmetries(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
-                           const std::vector<Eigen::Isometry3d>& symmetries) {
-  double best = M_PI;
-  for (const Eigen::Isometry3d& S : symmetries)
-    best = std::min(best, Eigen::AngleAxisd(a.transpose() * b * S.linear()).angle());
-  return best;
-}
-
 // Mean distance from the surface samples moved by `turn` to the surface (each capped at `cap`).
 double meanSurfaceDistance(const RaycastScene& scene, MeshId mesh,
                            const std::vector<Eigen::Vector3f>& samples,

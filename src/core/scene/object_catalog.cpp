@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "scene_graph_tracker/geometry/mesh_io.hpp"
@@ -9,6 +10,14 @@
 namespace fs = std::filesystem;
 
 namespace sgt {
+
+double angleUpToSymmetries(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
+                           const std::vector<Eigen::Isometry3d>& symmetries) {
+  double best = M_PI;
+  for (const Eigen::Isometry3d& S : symmetries)
+    best = std::min(best, Eigen::AngleAxisd(a.transpose() * b * S.linear()).angle());
+  return best;
+}
 
 std::vector<Eigen::Isometry3d> Symmetry::sampled(double step) const {
   std::vector<Eigen::Isometry3d> base{Eigen::Isometry3d::Identity()};
