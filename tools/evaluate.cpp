@@ -43,6 +43,7 @@
 // argument). Writes DIR/report.json, DIR/report.md, DIR/timeseries.csv and DIR/*.png, prints the
 // table.
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -385,7 +386,7 @@ double Evaluation::detect(sgt::ros::BagFrame& bf) {
     if (d.pnp.ok())
       bf.frame.hypotheses.push_back({d.detection.class_name,
                                      bf.rgb->T_base_camera * d.pnp.T_camera_object,
-                                     d.detection.score});
+                                     d.detection.score, true});  // cuboid keypoints
   }
   return ms;
 }
@@ -453,12 +454,19 @@ void Evaluation::scoreHypotheses(const sgt::ros::BagFrame& bf,
     const auto& t = truth[i];
     if (!catalog_->contains(t.class_name)) continue;
     if (match[i] >= 0) detected_.insert(t.id);
-    if (inView(bf, t.T_map_object))
-      report_.addHypothesis(
-          t.id, match[i] >= 0 ? std::optional<sgt::PoseErrors>((*scorer_)(
-                                    t.class_name, T_map_base * hypotheses[match[i]].T_base_object,
-                                    t.T_map_object))
-                              : std::nullopt);
+    if (!inView(bf, t.T_map_object)) continue;
+    if (match[i] < 0) {
+      report_.addHypothesis(t.id, std::nullopt);
+      continue;
+    }
+    const sgt::PoseHypothesis& h = hypotheses[match[i]];
+    const Eigen::Isometry3d T = T_map_base * h.T_base_object;
+    double box_turn_deg = NAN;  // the error under the nearest of the box's half turns
+    if (h.up_to_box_half_turns)
+      for (const Eigen::Isometry3d& turn : sgt::boxHalfTurns(catalog_->get(t.class_name).box))
+        box_turn_deg = std::fmin(box_turn_deg,
+                                 (*scorer_)(t.class_name, T * turn, t.T_map_object).rotation_deg);
+    report_.addHypothesis(t.id, (*scorer_)(t.class_name, T, t.T_map_object), box_turn_deg);
   }
 }
 

@@ -139,12 +139,14 @@ std::string EvaluationReport::falsePositivesJson() const {
 }
 
 void EvaluationReport::addHypothesis(const std::string& truth_id,
-                                     const std::optional<PoseErrors>& nearest) {
+                                     const std::optional<PoseErrors>& nearest,
+                                     double box_turn_deg) {
   HypothesisCounts& c = hypotheses_[truth_id];
   ++c.evaluated;
   if (!nearest) return;
   ++c.found;
   c.t_mm.push_back(nearest->translation * 1000), c.r_deg.push_back(nearest->rotation_deg);
+  if (std::isfinite(box_turn_deg)) c.r_box_deg.push_back(box_turn_deg);
 }
 
 std::string EvaluationReport::hypothesesJson() const {
@@ -158,7 +160,9 @@ std::string EvaluationReport::hypothesesJson() const {
       << indent << "\"translation_error_median_mm\": "
       << jsonNumber(c.t_mm.empty() ? NAN : quantile(c.t_mm, 0.5)) << ",\n"
       << indent << "\"rotation_error_median_deg\": "
-      << jsonNumber(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5));
+      << jsonNumber(c.r_deg.empty() ? NAN : quantile(c.r_deg, 0.5)) << ",\n"
+      << indent << "\"rotation_error_up_to_box_turns_median_deg\": "
+      << jsonNumber(c.r_box_deg.empty() ? NAN : quantile(c.r_box_deg, 0.5));
     return o.str();
   };
   HypothesisCounts all;
@@ -166,6 +170,7 @@ std::string EvaluationReport::hypothesesJson() const {
     all.evaluated += c.evaluated, all.found += c.found;
     all.t_mm.insert(all.t_mm.end(), c.t_mm.begin(), c.t_mm.end());
     all.r_deg.insert(all.r_deg.end(), c.r_deg.begin(), c.r_deg.end());
+    all.r_box_deg.insert(all.r_box_deg.end(), c.r_box_deg.begin(), c.r_box_deg.end());
   }
   std::ostringstream o;
   o << "  \"hypotheses\": {\n" << fields(all, "    ") << ",\n    \"per_object\": {";
@@ -182,8 +187,8 @@ std::string EvaluationReport::hypothesesMarkdown() const {
   if (hypotheses_.empty()) return "";
   std::ostringstream o;
   o << std::fixed << "\nPose hypotheses (nearest of the class within the gate, true base pose):\n\n"
-    << "| object | frames in view | with a hypothesis | share | t mm median | R deg median "
-       "|\n|---|---|---|---|---|---|\n";
+    << "| object | frames in view | with a hypothesis | share | t mm median | R deg median | "
+       "R deg up to box turns |\n|---|---|---|---|---|---|---|\n";
   const auto median = [](const std::vector<double>& v) {
     std::ostringstream m;
     m << std::fixed << std::setprecision(1);
@@ -196,7 +201,7 @@ std::string EvaluationReport::hypothesesMarkdown() const {
   for (const auto& [id, c] : hypotheses_)
     o << "| " << id << " | " << c.evaluated << " | " << c.found << " | " << std::setprecision(3)
       << (c.evaluated ? static_cast<double>(c.found) / c.evaluated : 0.0) << " | " << median(c.t_mm)
-      << " | " << median(c.r_deg) << " |\n";
+      << " | " << median(c.r_deg) << " | " << median(c.r_box_deg) << " |\n";
   return o.str();
 }
 

@@ -200,6 +200,7 @@ void DetectorNodelet::detect(const RgbFrame& frame) {
     h.class_name = d.detection.class_name;
     h.pose = toPose(d.pnp.T_camera_object);
     h.score = d.detection.score;
+    h.up_to_box_half_turns = true;  // cuboid keypoints (detection/keypoint_labels.hpp)
     out.hypotheses.push_back(h);
   }
   hypotheses_pub_.publish(out);

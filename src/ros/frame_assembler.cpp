@@ -80,7 +80,8 @@ void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Ima
     for (const auto& p : best->hypotheses) {
       try {  // one bad hypothesis costs itself, not the frame
         if (!std::isfinite(p.score)) throw ConversionError("non-finite score");
-        out.frame.hypotheses.push_back({p.class_name, T_base_frame * toEigen(p.pose), p.score});
+        out.frame.hypotheses.push_back(
+            {p.class_name, T_base_frame * toEigen(p.pose), p.score, p.up_to_box_half_turns != 0});
       } catch (const ConversionError& e) {
         out.warnings.push_back("hypothesis of class '" + p.class_name + "' dropped: " + e.what());
       }

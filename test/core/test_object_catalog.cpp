@@ -48,6 +48,27 @@ TEST(ObjectCatalog, SampledSymmetries) {
     EXPECT_TRUE((S * Eigen::Vector3d(0.1, 0, 0)).isApprox(Eigen::Vector3d(0.1, 0, 0)));
 }
 
+TEST(ObjectCatalog, BoxHalfTurnsMapAnOffCentreBoxOntoItself) {
+  const Eigen::AlignedBox3f box(Eigen::Vector3f(0.0f, -0.1f, 0.2f),
+                                Eigen::Vector3f(0.4f, 0.1f, 0.3f));
+  const auto turns = boxHalfTurns(box);
+  EXPECT_TRUE(turns[0].isApprox(Eigen::Isometry3d::Identity()));
+  for (std::size_t k = 1; k < turns.size(); ++k) {
+    EXPECT_NEAR(Eigen::AngleAxisd(turns[k].linear()).angle(), M_PI, 1e-12) << k;
+    for (int c = 0; c < 8; ++c) {  // each corner onto a corner
+      const Eigen::Vector3d p =
+          turns[k] * box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
+      double nearest = 1.0;
+      for (int d = 0; d < 8; ++d)
+        nearest = std::min(
+            nearest,
+            (p - box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(d)).cast<double>())
+                .norm());
+      EXPECT_LT(nearest, 1e-6) << k << " " << c;
+    }
+  }
+}
+
 TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
   const std::string path =
       test::writeFile("bad_catalog.yaml", "objects:\n  relay:\n    scale: 1.0\n");

@@ -97,7 +97,7 @@ TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
   EXPECT_FALSE(has(r.markdown(), "Pose hypotheses"));
   PoseErrors e;
   for (const double t : {0.010, 0.030, 0.020})
-    e.translation = t, e.rotation_deg = 100 * t, r.addHypothesis("klt_1", e);
+    e.translation = t, e.rotation_deg = 100 * t, r.addHypothesis("klt_1", e, 10 * t);
   r.addHypothesis("klt_1", std::nullopt);  // in view, no hypothesis within the gate
   r.addHypothesis("screwdriver_1", std::nullopt);
   const std::string j = r.json();
@@ -107,7 +107,8 @@ TEST(EvaluationReport, HypothesesShareAndMedianErrorsPerObject) {
   EXPECT_TRUE(has(
       j,
       "\"klt_1\": {\n        \"evaluated\": 4,\n        \"found\": 3,\n        \"recall\": 0.75,\n"
-      "        \"translation_error_median_mm\": 20,\n        \"rotation_error_median_deg\": 2\n"))
+      "        \"translation_error_median_mm\": 20,\n        \"rotation_error_median_deg\": 2,\n"
+      "        \"rotation_error_up_to_box_turns_median_deg\": 0.2\n"))
       << j;
   EXPECT_TRUE(has(j,
                   "\"screwdriver_1\": {\n        \"evaluated\": 1,\n        \"found\": 0,\n        "

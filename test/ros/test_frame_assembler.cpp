@@ -69,12 +69,16 @@ sensor_msgs::PointCloud2::Ptr cloudAt(double stamp, const SpinningLidarModel& mo
 
 TEST(FrameAssembler, TakesTheClosestHypothesisArrayOnceInTheBaseFrame) {
   FrameAssembler assembler({}, fixedFrames());
-  assembler.addHypotheses(hypothesesAt(0.9, 3));   // too old for the image at 1.0 ...
-  assembler.addHypotheses(hypothesesAt(0.98, 2));  // ... this one is closest ...
+  assembler.addHypotheses(hypothesesAt(0.9, 3));  // too old for the image at 1.0 ...
+  auto closest = hypothesesAt(0.98, 2);           // ... this one is closest ...
+  closest->hypotheses[1].up_to_box_half_turns = true;
+  assembler.addHypotheses(closest);
   assembler.addHypotheses(hypothesesAt(1.05, 1));  // ... and this one belongs to a later image
   const AssembledFrame a = assembler.assemble(depthAt(1.0), smallCamera());
   ASSERT_EQ(a.frame.hypotheses.size(), 2u);
   EXPECT_NEAR(a.frame.hypotheses[0].T_base_object.translation().z(), 1.0, 1e-12);  // base <- camera
+  EXPECT_FALSE(a.frame.hypotheses[0].up_to_box_half_turns);
+  EXPECT_TRUE(a.frame.hypotheses[1].up_to_box_half_turns);
   ASSERT_EQ(a.frame.measurements.size(), 1u);
   EXPECT_NEAR(a.frame.measurements[0].T_world_sensor.translation().z(), 1.0, 1e-12);
   // Arrays up to the image's stamp are used up; the later one is still there for its image.

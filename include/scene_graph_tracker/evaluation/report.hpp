@@ -6,6 +6,7 @@
 // scripts/plot_report.py).
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -41,8 +42,11 @@ class EvaluationReport {
   // One true object in view in one frame against the pose hypotheses of its class (the
   // detector's, or the bag's simulated ones): the errors of the nearest one within the
   // association gate, or nullopt when none was that close. hypotheses.* says how often the source
-  // gave the tracker a start and how good that start was.
-  void addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest);
+  // gave the tracker a start and how good that start was. `box_turn_deg`: for a hypothesis known
+  // only up to its box's half turns (PoseHypothesis::up_to_box_half_turns), its rotation error
+  // under the nearest turn (NaN otherwise): what the detector gets wrong beyond what it declares.
+  void addHypothesis(const std::string& truth_id, const std::optional<PoseErrors>& nearest,
+                     double box_turn_deg = NAN);
   // How well the matched track's pose (`tracked_m`) and the true pose (`given_m`) explain the
   // depth image on the object's visible surface (evaluation/surface_fit.hpp): the median
   // |measured - rendered depth|, for the object's row of the frame at `stamp` (ignored when
@@ -101,7 +105,7 @@ class EvaluationReport {
   std::size_t relation_frames_ = 0, declared_relations_ = 0;
   struct HypothesisCounts {
     std::size_t evaluated = 0, found = 0;
-    std::vector<double> t_mm, r_deg;  // of the found ones
+    std::vector<double> t_mm, r_deg, r_box_deg;  // of the found ones
   };
   std::map<std::string, HypothesisCounts> hypotheses_;  // per truth id
   std::map<std::string, std::string> last_track_;       // truth id -> last matched track id

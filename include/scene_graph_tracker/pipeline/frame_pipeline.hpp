@@ -37,6 +37,10 @@ struct PoseHypothesis {
   std::string class_name;
   Eigen::Isometry3d T_base_object = Eigen::Isometry3d::Identity();
   double score = 1.0;
+  // The pose is known only up to the half turns of the class's box about its centre (a cuboid
+  // keypoint detector: the corners have no labels that tell a box from its turns). The tracker
+  // then takes, of those turns, the one nearest the track it is associated with.
+  bool up_to_box_half_turns = false;
 };
 
 struct PipelineFrame {
@@ -175,6 +179,9 @@ class FramePipeline {
                                    const std::vector<Eigen::Isometry3d>& in_map,
                                    double forbidden) const;
   void restartFromDetection(Track& t, const Eigen::Isometry3d& T_map_object);
+  // Of T_detected and its box half turns, the pose whose rotation lies nearest track t's (up to the
+  // class's symmetries).
+  Eigen::Isometry3d nearestBoxHalfTurn(const Track& t, const Eigen::Isometry3d& T_detected) const;
 
   // Life cycle (frame_pipeline_lifecycle.cpp): apply this frame's fits to the filters, gather the
   // evidence that needs the scene, advance every track, remove those that go.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -36,6 +37,10 @@ struct Symmetry {
 // identity first): how far apart two orientations of a symmetric object are.
 double angleUpToSymmetries(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
                            const std::vector<Eigen::Isometry3d>& symmetries);
+
+// The identity and the half turns about the x, y and z axes through the box's centre: the turns
+// that map the box onto itself (object frame: an object at T looks like its box at T * turn).
+std::array<Eigen::Isometry3d, 4> boxHalfTurns(const Eigen::AlignedBox3f& box);
 
 struct ObjectClass {
   std::string name;

@@ -33,11 +33,7 @@ Eigen::Isometry3d canonicalSymmetricPose(const Eigen::Isometry3d& T_camera_objec
 }
 
 std::array<Eigen::Isometry3d, 4> boxHalfTurns() {
-  std::array<Eigen::Isometry3d, 4> out;
-  out.fill(Eigen::Isometry3d::Identity());
-  for (int a = 0; a < 3; ++a)
-    out[a + 1].linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(a)).toRotationMatrix();
-  return out;
+  return sgt::boxHalfTurns(Eigen::AlignedBox3f(Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero()));
 }
 
 Eigen::Isometry3d canonicalCuboidPose(const Eigen::Isometry3d& T_camera_object,

@@ -83,6 +83,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
       continue;
     }
     Track& t = tracks_[match[h]];
+    if (hypotheses[h].up_to_box_half_turns) in_map[h] = nearestBoxHalfTurn(t, in_map[h]);
     t.life.last_hypothesis = stamp;
     ++t.life.detections;
     if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
@@ -90,6 +91,21 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
     else
       noteDispute(t, in_map[h]);
   }
+}
+
+Eigen::Isometry3d FramePipeline::nearestBoxHalfTurn(const Track& t,
+                                                    const Eigen::Isometry3d& T_detected) const {
+  const ObjectClass& object = catalog_->get(t.out.class_name);
+  const std::vector<Eigen::Isometry3d> symmetries = object.symmetry.sampled();
+  Eigen::Isometry3d best = T_detected;
+  double best_angle = M_PI + 1.0;
+  for (const Eigen::Isometry3d& turn : boxHalfTurns(object.box)) {
+    const Eigen::Isometry3d turned = T_detected * turn;
+    const double angle =
+        angleUpToSymmetries(t.out.T_map_object.linear(), turned.linear(), symmetries);
+    if (angle < best_angle) best = turned, best_angle = angle;
+  }
+  return best;
 }
 
 void FramePipeline::noteDispute(Track& t, const Eigen::Isometry3d& T_detected) {

@@ -19,6 +19,17 @@ double angleUpToSymmetries(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b,
   return best;
 }
 
+std::array<Eigen::Isometry3d, 4> boxHalfTurns(const Eigen::AlignedBox3f& box) {
+  const Eigen::Vector3d centre = box.center().cast<double>();
+  std::array<Eigen::Isometry3d, 4> out;
+  out.fill(Eigen::Isometry3d::Identity());
+  for (int a = 0; a < 3; ++a) {
+    out[a + 1].linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(a)).toRotationMatrix();
+    out[a + 1].translation() = centre - out[a + 1].linear() * centre;
+  }
+  return out;
+}
+
 std::vector<Eigen::Isometry3d> Symmetry::sampled(double step) const {
   std::vector<Eigen::Isometry3d> base{Eigen::Isometry3d::Identity()};
   base.insert(base.end(), discrete.begin(), discrete.end());
