@@ -12,7 +12,8 @@ Reads BASE/runs/*/report.json and OTHER/runs/*/report.json and prints (and write
 - how many scenarios went up, down or stayed within --equal, the two-sided sign test's p value
   (ties left out) and the mean change with its standard error;
 - per class: recall over the scored object-frames (each object's recall weighted by its scored
-  frames), and the share of scored object-frames displaced, turned and missed.
+  frames), and the share of scored object-frames displaced (of them crossed: on another object of
+  the class), turned and missed.
 """
 import argparse
 import glob
@@ -83,17 +84,19 @@ def by_class(reports, names):
             if not n or o.get('recall_add_or_adds_10') is None:
                 continue
             t = totals.setdefault(o['class'], {'evaluated': 0, 'correct': 0.0, 'displaced': 0,
-                                               'turned': 0, 'missed': 0})
+                                               'turned': 0, 'missed': 0, 'crossed': 0})
             t['evaluated'] += n
             t['correct'] += o['recall_add_or_adds_10'] * n
-            for k in ('displaced', 'turned', 'missed'):
+            for k in ('displaced', 'turned', 'missed', 'crossed'):
                 t[k] += o.get(k, 0)
+            t['has_crossed'] = t.get('has_crossed', False) or 'crossed' in o  # newer reports
     out = {}
     for cls, t in sorted(totals.items()):
         n = t['evaluated']
         out[cls] = {'object_frames': n, 'recall': t['correct'] / n,
                     'displaced': t['displaced'] / n, 'turned': t['turned'] / n,
-                    'missed': t['missed'] / n}
+                    'missed': t['missed'] / n,
+                    'crossed': t['crossed'] / n if t['has_crossed'] else None}
     return out
 
 
@@ -115,16 +118,19 @@ def markdown(result, classes_base, classes_other, a):
                          result['mean_change_se']))
         lines.append('median / worst / mean: %.3f / %.3f / %.3f -> %.3f / %.3f / %.3f' % (
             b['median'], b['worst'], b['mean'], o['median'], o['worst'], o['mean']))
-    lines += ['', '| class | object-frames | recall | displaced | turned | missed |',
-              '|---|---|---|---|---|---|']
+    lines += ['', '| class | object-frames | recall | displaced | of them crossed | turned | missed |',
+              '|---|---|---|---|---|---|---|']
     for cls in sorted(set(classes_base) | set(classes_other)):
         cb, co = classes_base.get(cls), classes_other.get(cls)
 
         def pair(k):
-            return '%s -> %s' % ('%.3f' % cb[k] if cb else '-', '%.3f' % co[k] if co else '-')
+            def one(c):
+                return '%.3f' % c[k] if c and c[k] is not None else '-'
+            return '%s -> %s' % (one(cb), one(co))
         frames = (co or cb)['object_frames']
-        lines.append('| %s | %d | %s | %s | %s | %s |' % (
-            cls, frames, pair('recall'), pair('displaced'), pair('turned'), pair('missed')))
+        lines.append('| %s | %d | %s | %s | %s | %s | %s |' % (
+            cls, frames, pair('recall'), pair('displaced'), pair('crossed'), pair('turned'),
+            pair('missed')))
     return '\n'.join(lines) + '\n'
 
 

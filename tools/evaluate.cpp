@@ -225,6 +225,10 @@ class Evaluation {
                    const std::vector<sgt::SurfaceFit>& fits, const std::vector<int>& track_owner,
                    const std::vector<int>& given_owner, std::size_t given);
   double gate(const std::string& class_name) const;
+  // Whether an estimate lies within 10 % of the diameter of a true object of truth i's class
+  // other than i.
+  bool onAnotherObject(const sgt::ros::BagFrame& bf, std::size_t i,
+                       const Eigen::Isometry3d& T_map_estimate) const;
 
   const Args& args_;
   sgt::params::TrackerParameters tracker_params_;
@@ -528,6 +532,7 @@ std::map<std::string, std::string> Evaluation::scoreObjects(const sgt::ros::BagF
       const double d = (o.T_map_object.translation() - t.T_map_object.translation()).norm();
       if (o.state != sgt::TrackState::kTentative && d < 0.1) track_to_object[track] = t.id;
       e = (*scorer_)(t.class_name, o.T_map_object, t.T_map_object);
+      e->crossed = e->displaced && onAnotherObject(bf, i, o.T_map_object);
     }
     report_.addObject(r.stamp, t.id, t.class_name, track, e, inView(bf, t.T_map_object));
   }
@@ -536,6 +541,17 @@ std::map<std::string, std::string> Evaluation::scoreObjects(const sgt::ros::BagF
     if (!used[k] && r.objects[k].state != sgt::TrackState::kTentative)
       report_.addFalsePositive(r.stamp, r.objects[k].id, r.objects[k].class_name);
   return track_to_object;
+}
+
+bool Evaluation::onAnotherObject(const sgt::ros::BagFrame& bf, std::size_t i,
+                                 const Eigen::Isometry3d& T_map_estimate) const {
+  const auto& truth = bf.truth->objects;
+  for (std::size_t j = 0; j < truth.size(); ++j)
+    if (j != i && truth[j].class_name == truth[i].class_name &&
+        (truth[j].T_map_object.translation() - T_map_estimate.translation()).norm() <
+            0.1 * catalog_->get(truth[j].class_name).diameter)
+      return true;
+  return false;
 }
 
 // The depth residual of each scored object's track and of its true pose on the camera image

@@ -32,6 +32,7 @@ struct ObjectStats {
   std::vector<double> alone_mm, excess_mm;    // the mesh fitted alone; tracked minus that
   std::size_t evaluated = 0, correct = 0, missed = 0, out_of_view = 0, correct_add_or_adds = 0;
   std::size_t displaced = 0, turned = 0;  // wrong ADD(-S): a wrong place, or a wrong turn only
+  std::size_t crossed = 0;                // of the displaced: on another object of the class
   void add_row(const std::optional<PoseErrors>& e, bool in_view) {
     if (!in_view) {
       ++out_of_view;
@@ -47,6 +48,7 @@ struct ObjectStats {
     add_or_adds.push_back(e->add_or_adds * 1000);
     correct += e->correct, correct_add_or_adds += e->correct_add_or_adds;
     if (!e->correct_add_or_adds) ++(e->displaced ? displaced : turned);
+    crossed += !e->correct_add_or_adds && e->displaced && e->crossed;
   }
   void addFit(const std::optional<double>& tracked_m, const std::optional<double>& given_m,
               const std::optional<double>& alone_m) {
@@ -66,6 +68,7 @@ struct ObjectStats {
       << indent << "\"out_of_view\": " << out_of_view << ",\n"
       << indent << "\"displaced\": " << displaced << ",\n"
       << indent << "\"turned\": " << turned << ",\n"
+      << indent << "\"crossed\": " << crossed << ",\n"
       << indent << "\"add_s_mean_mm\": " << jsonNumber(mean(add_s)) << ",\n"
       << indent << "\"add_mean_mm\": " << jsonNumber(mean(add)) << ",\n"
       << indent << "\"recall_adds_10\": " << jsonNumber(recall()) << ",\n"

@@ -35,6 +35,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   r.addObject(2, "klt_1", "klt", "", std::nullopt);  // missed: counts against recall
   PoseErrors far = errors(0.030, 0.040, false);
   far.displaced = true;
+  far.crossed = true;                                       // on another crate
   r.addObject(3, "klt_1", "klt", "klt_2", far);             // another track: a switch
   r.addObject(4, "klt_1", "klt", "", std::nullopt, false);  // out of the camera's view: not scored
   r.addObject(5, "klt_1", "klt", "klt_3", errors(0.5, 0.5, false), false);  // nor a switch
@@ -51,6 +52,7 @@ TEST(EvaluationReport, KeysMeansRecallAndSwitches) {
   EXPECT_TRUE(has(j, "\"missed\": 1"));
   EXPECT_TRUE(has(j, "\"displaced\": 1,")) << j;  // frame 3: in the wrong place
   EXPECT_TRUE(has(j, "\"turned\": 1,")) << j;     // frame 1: in place, ADD too large
+  EXPECT_TRUE(has(j, "\"crossed\": 1,")) << j;    // frame 3: on another object of its class
   EXPECT_TRUE(has(j, "\"out_of_view\": 2"));
   EXPECT_TRUE(has(j, "\"identity_switches\": 1"));
   EXPECT_TRUE(has(j, "\"translation_error_mean_mm\": 4"));  // localization: 4 mm every frame

@@ -68,6 +68,15 @@ class SuiteCompareTest(unittest.TestCase):
             self.assertAlmostEqual(classes['relay']['recall'], 0.8)
             self.assertAlmostEqual(classes['relay']['displaced'], 0.1)
             self.assertEqual(classes['klt']['object_frames'], 200)  # not only_base's
+            self.assertIsNone(classes['relay']['crossed'])  # reports from before the key
+            s1 = os.path.join(other, 'runs', 's1', 'report.json')
+            with open(s1) as f:
+                r1 = json.load(f)
+            r1['objects']['per_object']['relay_0']['crossed'] = 4
+            with open(s1, 'w') as f:
+                json.dump(r1, f)
+            crossed = suite_compare.by_class(suite_compare.load_reports(other), names)['relay']
+            self.assertAlmostEqual(crossed['crossed'], 4 / 400)
             self.assertAlmostEqual(classes['klt']['recall'], 0.8)
             out = os.path.join(root, 'cmp.md')
             self.assertEqual(suite_compare.main([base, other, '--output', out]), 0)

@@ -58,6 +58,10 @@ struct PoseErrors {
   // Where the estimate is, alone, 10 % of the diameter or more from the object: a wrong
   // ADD(-S) is then a wrong place, else a wrong turn.
   bool displaced = false;
+  // Set by the caller that pairs estimates with objects: the estimate lies within 10 % of the
+  // diameter of another object of its class (identical objects side by side, their estimates
+  // paired crosswise), so a displaced estimate is another object's, not a wrong place.
+  bool crossed = false;
 };
 
 // Everything for one estimate of an object of class `object` (its mesh sampled with
