@@ -466,10 +466,12 @@ void Evaluation::scoreHypotheses(const sgt::ros::BagFrame& bf,
     const sgt::PoseHypothesis& h = hypotheses[match[i]];
     const Eigen::Isometry3d T = T_map_base * h.T_base_object;
     double box_turn_deg = NAN;  // the error under the nearest of the box's half turns
+    const sgt::ObjectClass& c = catalog_->get(t.class_name);
     if (h.up_to_box_half_turns)
-      for (const Eigen::Isometry3d& turn : sgt::boxHalfTurns(catalog_->get(t.class_name).box))
-        box_turn_deg = std::fmin(box_turn_deg,
-                                 (*scorer_)(t.class_name, T * turn, t.T_map_object).rotation_deg);
+      for (const Eigen::Isometry3d& turn : sgt::boxHalfTurns(c.box))
+        box_turn_deg =
+            std::fmin(box_turn_deg, sgt::symmetricRotationErrorDeg(c.symmetry, (T * turn).linear(),
+                                                                   t.T_map_object.linear()));
     report_.addHypothesis(t.id, (*scorer_)(t.class_name, T, t.T_map_object), box_turn_deg);
   }
 }

@@ -18,8 +18,8 @@
 namespace sgt {
 namespace {
 
-constexpr double kDistance =
-    2.0;  // m, the robot in front of the bench; depth noise twice the demo's
+// The robot this far in front of the bench (m), the depth noise twice the demo's.
+constexpr double kDistance = 2.0;
 
 // Per class, the largest rotation error (deg, up to the class's symmetries) of its track over the
 // last 30 of 60 frames.
