@@ -174,6 +174,66 @@ TEST(ObjectRefiner, ReportsWhatItsPairsConstrainOnlyWhenAsked) {
   EXPECT_TRUE(q0.information.isZero());
 }
 
+// A multimeter half a metre from the camera covers many thousand pixels. With the rays near it
+// bounded to 300 per round it casts a fraction of the rays and still comes back from 1 cm / 3 deg;
+// its quality counts weigh each cast ray by the rays it stands for, so they stay close to those of
+// the full sampling.
+TEST(ObjectRefiner, ABoundedSamplingOfANearObjectCountsWhatItStandsFor) {
+  ObjectQuality q[2];
+  std::size_t rays_cast[2] = {0, 0};
+  for (int bounded = 0; bounded < 2; ++bounded) {
+    Bench b;
+    b.T_world_camera = opticalLookAt({0.0, 0.3, 1.2}, {0.0, 0.0, 0.75});
+    b.add("multimeter", 0.0, 0.0, 0.4, 10);
+    const RangeMeasurements m = b.measure(2);
+    b.perturbAll(0.01, 3.0, 2);
+    RefinerOptions o;
+    o.full_resolution_last_round = false;
+    if (bounded) o.max_rays_per_object = 300, o.jitter = true;
+    const RefineResult r = ObjectRefiner(o).refine(b.scene, b.targets, {m});
+    const ObjectEstimate& e = r.objects.at(0);
+    q[bounded] = e.quality;
+    rays_cast[bounded] = r.rays_cast;
+    EXPECT_EQ(e.quality.status, RefineStatus::kOk) << toString(e.quality.status);
+    EXPECT_LT(translationError(e, b.truth[0].second), kMaxTransErr) << "bounded " << bounded;
+    EXPECT_LT(test::rotationErrorDeg(e.T_world_object.linear(), b.truth[0].second.linear()),
+              kMaxRotErrDeg);
+  }
+  EXPECT_LT(rays_cast[1] * 8, rays_cast[0]) << rays_cast[1] << " of " << rays_cast[0];
+  EXPECT_GT(q[0].expected, 8 * 300) << "the object is near: its rays exceed the bound";
+  EXPECT_NEAR(q[1].expected, q[0].expected, 0.15 * q[0].expected);
+  EXPECT_NEAR(q[1].inliers, q[0].inliers, 0.15 * q[0].inliers);
+  const double trace[2] = {q[0].information.topLeftCorner(3, 3).trace(),
+                           q[1].information.topLeftCorner(3, 3).trace()};
+  EXPECT_NEAR(trace[1], trace[0], 0.15 * trace[0]);
+}
+
+// Refining an object that is already where the depth puts it: with converged_step the first
+// round's steps fall below it after a round or two, and then only the last round is cast; the
+// pose and the quality come out as with all rounds.
+TEST(ObjectRefiner, AConvergedRoundEndsTheRefinement) {
+  RefineResult r[2];
+  Bench b;
+  b.add("multimeter", 0.0, 0.0, 0.4, 10);
+  const RangeMeasurements m = b.measure(4);
+  for (int early = 0; early < 2; ++early) {
+    b.perturbAll(0.0005, 0.05, 4);
+    RefinerOptions o;
+    o.full_resolution_last_round = false;  // every round casts alike
+    if (early) o.converged_step = 0.001;
+    r[early] = ObjectRefiner(o).refine(b.scene, b.targets, {m});
+  }
+  const RefinerOptions o;
+  EXPECT_LE(r[1].rays_cast * o.rounds, r[0].rays_cast * 3) << "at most three rounds";
+  const ObjectEstimate& full = r[0].objects.at(0);
+  const ObjectEstimate& early = r[1].objects.at(0);
+  EXPECT_LT(translationError(early, b.truth[0].second), 0.001);
+  EXPECT_LT((early.T_world_object.translation() - full.T_world_object.translation()).norm(),
+            0.0005);
+  EXPECT_EQ(early.quality.status, RefineStatus::kOk);
+  EXPECT_NEAR(early.quality.inliers, full.quality.inliers, 0.02 * full.quality.inliers);
+}
+
 // An unknown box 1.5 cm beside a well-placed object: its points are unexplained and near the
 // object, so with the full pull radius they drag the object towards the box; a target whose pull
 // radius is what its filter allows (a few millimetres) stays where its own surface puts it.

@@ -39,6 +39,18 @@ struct RefinerOptions {
   // off). LiDAR scans are always cast in full: few of their rays fall on objects.
   int ray_stride = 2;
   bool full_resolution_last_round = true;
+  // The sampled rounds cast at most about this many depth-image rays near each object (0: no
+  // bound): a near object's region is sampled at 2, 4, 8... times ray_stride instead, so its cost
+  // does not grow with its pixel count. Its quality counts (inliers, expected, information) weigh
+  // each cast ray by the rays it stands for, so they do not depend on the sampling.
+  int max_rays_per_object = 0;
+  // Each sampled round shifts its ray grid by an offset below the stride (TileSet::sampled's
+  // phase), so successive rounds cast different rays and the grid's aliasing of the object's
+  // silhouette does not repeat from round to round.
+  bool jitter = false;
+  // A round in which no object's box corner moves by more than this (m) ends the refinement
+  // early: the last round is cast next (0: all rounds always).
+  double converged_step = 0.0;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within
   // roi_margin of an object's box) pair with the closest point of the object's surface within

@@ -19,6 +19,7 @@
 
 #include "scene_graph_tracker/geometry/triangle_mesh.hpp"
 #include "scene_graph_tracker/scene/node_id.hpp"
+#include "scene_graph_tracker/scene/tile_set.hpp"
 #include "scene_graph_tracker/sensors/range_noise.hpp"
 #include "scene_graph_tracker/sensors/sensor_models.hpp"
 
@@ -68,43 +69,6 @@ class HitsLease {
 HitsLease scratchHits(int width, int height);
 // Buffers in the pool now (leased or free), over all sizes: for tests and diagnostics.
 std::size_t scratchHitsPooled();
-
-// Rectangle of a ray grid: columns [x0, x1), rows [y0, y1).
-struct GridRect {
-  int x0, y0, x1, y1;
-};
-
-// The tiles of a ray grid a cast covers (all tiles when built without rectangles).
-class TileSet {
- public:
-  TileSet() = default;
-  static TileSet all(const SensorRays& rays);
-  // Tiles over the union of `rects`. With stride s > 1 only every s-th ray in x and y is cast
-  // (a tile then spans 4s x 4s grid cells): coarse rounds of refinement need fewer rays.
-  static TileSet covering(const SensorRays& rays, const std::vector<GridRect>& rects,
-                          int stride = 1);
-
-  int stride() const { return stride_; }
-  const std::vector<std::int32_t>& tiles() const { return tiles_; }  // tile indices
-  std::size_t rayCount() const {
-    return tiles_.size() * static_cast<std::size_t>(tile_w_ * tile_h_);
-  }
-  // Calls f(slot, ray_index) for the up to 16 rays of tile `b` (index into tiles()); slot is
-  // the ray's lane 0..15 inside the tile.
-  template <typename F>
-  void forTile(const SensorRays& rays, std::size_t b, F&& f) const;
-  // Calls f(ray_index) for every ray of the covered tiles.
-  template <typename F>
-  void forEachRay(const SensorRays& rays, F&& f) const {
-    for (std::size_t b = 0; b < tiles_.size(); ++b)
-      forTile(rays, b, [&](int, std::size_t i) { f(i); });
-  }
-
- private:
-  TileSet(const SensorRays& rays, int stride);
-  int tile_w_ = 4, tile_h_ = 4, tiles_x_ = 0, stride_ = 1;
-  std::vector<std::int32_t> tiles_;
-};
 
 // Optional per-ray far limit for cast(): a ray stops at range[i] + slack.at(range[i]), and a ray
 // whose range[i] is not finite is not cast at all (its hit reads "nothing"). Correspondence search
@@ -200,16 +164,5 @@ class RaycastScene {
   MeshId static_map_mesh_ = -1;
   bool dirty_ = false;
 };
-
-// ---------------------------------------------------------------------------------------------
-template <typename F>
-void TileSet::forTile(const SensorRays& rays, std::size_t b, F&& f) const {
-  const int t = tiles_[b];
-  const int x0 = (t % tiles_x_) * tile_w_ * stride_, y0 = (t / tiles_x_) * tile_h_ * stride_;
-  for (int k = 0; k < tile_w_ * tile_h_; ++k) {
-    const int x = x0 + (k % tile_w_) * stride_, y = y0 + (k / tile_w_) * stride_;
-    if (x < rays.width && y < rays.height) f(k, static_cast<std::size_t>(y) * rays.width + x);
-  }
-}
 
 }  // namespace sgt

@@ -294,6 +294,17 @@ Schema<T> refinementParams() {
                 "object boxes grow by this much when picking the rays to cast"),
       number<T>("refine/ray_stride", kRefinement, PIPE(refiner.ray_stride), 1, 16, "", kRuntime,
                 "every ray_stride-th depth pixel in x and y"),
+      number<T>("refine/max_rays_per_object", kRefinement, PIPE(refiner.max_rays_per_object), 0,
+                1000000, "", kRuntime,
+                "depth rays cast near one object per round at most: a near object is sampled "
+                "more sparsely (0: every ray_stride-th)"),
+      flag<T>("refine/jitter", kRefinement, PIPE(refiner.jitter), kRuntime,
+              "each round shifts the sampled ray grid, so successive rounds cast different rays"),
+      number<T>(
+          "refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
+          kRuntime,
+          "a round that moves no box corner of any object farther ends the refinement: the last "
+          "round is cast next (0: all rounds)"),
       number<T>("refine/pull_radius", kRefinement, PIPE(refiner.pull_radius), 0.0, 0.5, "m",
                 kRuntime,
                 "unexplained measurements this close to an object pull it towards them (0: off)"),

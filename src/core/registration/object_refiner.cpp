@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "scene_graph_tracker/registration/ray_correspondences.hpp"
@@ -71,6 +72,18 @@ Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::Aligned
   return out;
 }
 
+// How far the step from `from` to `to` moves the farthest corner of `box` (object frame).
+double cornerShift(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
+                   const Eigen::AlignedBox3f& box) {
+  double largest = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p =
+        box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
+    largest = std::max(largest, (to * p - from * p).norm());
+  }
+  return largest;
+}
+
 // A point-to-point pair as three point-to-plane rows along orthonormal axes (the linear step sums
 // squared plane residuals, so the three rows sum to the squared distance).
 void appendPointToPoint(RayPair p, std::vector<RayPair>& out) {
@@ -132,30 +145,33 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   std::vector<char> degenerate(n_obj, 0);
   std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
   std::vector<RangeTolerance> last_tolerance(measurements.size());
-  std::vector<int> expected(n_obj, 0);
+  std::vector<std::vector<float>> last_weight(measurements.size());
+  std::vector<double> expected(n_obj, 0.0);
   for (int round = 0; round < options_.rounds; ++round) {
     const float max_dist = thresholdOfRound(options_, round);
+    const bool last = round + 1 == options_.rounds;
     // 1. Correspondences from every sensor, cast from the current estimates.
     std::vector<std::vector<RayPair>> pairs(n_obj);
-    std::fill(expected.begin(), expected.end(), 0);
+    std::fill(expected.begin(), expected.end(), 0.0);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
       const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
       RayHits& hits = *lease;
-      const bool last = round + 1 == options_.rounds;
       const bool coarse = (!last || !options_.full_resolution_last_round) &&
                           std::holds_alternative<PinholeModel>(m.model);
-      const TileSet tiles =
-          TileSet::covering(*m.rays, raysNearObjects(m, extents, options_.roi_margin),
-                            coarse ? options_.ray_stride : 1);
+      const ObjectSampling sampling =
+          sampleRaysNearObjects(m, extents, options_.roi_margin, coarse ? options_.ray_stride : 1,
+                                coarse ? options_.max_rays_per_object : 0);
+      const TileSet tiles = TileSet::sampled(*m.rays, sampling.regions,
+                                             options_.jitter ? static_cast<unsigned>(round) : 0u);
       result.rays_cast += tiles.rayCount();
       PairingStats stats;
       const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
-      if (last) last_tolerance[s] = tolerance;
+      if (last) last_tolerance[s] = tolerance, last_weight[s] = sampling.weight;
       last_pairs[s] = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
       for (int k = 0; k < n_obj; ++k) {
         appendAlignmentPairs(last_pairs[s][k], options_.noise_sigmas > 0.0f, max_dist, pairs[k]);
-        expected[k] += stats.expected[k];
+        expected[k] += sampling.weight[k] * stats.expected[k];
       }
       if (options_.pull_radius > 0.0f) {
         const UnexplainedPairing pulling{tolerance, options_.pull_front_margin, options_.roi_margin,
@@ -171,6 +187,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
     const double step_limit = std::max(max_dist, options_.pull_radius);
     // 2. Per object, Umeyama steps over the round's pairs in the object's round-start frame.
+    std::vector<double> moved(n_obj, 0.0);
     tbb::parallel_for(0, n_obj, [&](int k) {
       ObjectQuality& q = result.objects[k].quality;
       if (degenerate[k]) return;
@@ -193,10 +210,16 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       if (a.steps > 0)
         extents[k].T_world_object = withoutSymmetricTwist(
             T0, T0 * limitStep(a.T, extents[k].box, step_limit), targets[k].symmetry);
+      moved[k] = cornerShift(T0, extents[k].T_world_object, extents[k].box);
     });
     for (int k = 0; k < n_obj; ++k)
       scene.setInstancePose(targets[k].node, extents[k].T_world_object);
     scene.commit();
+    // Converged: no object moved by more than converged_step; only the last round is left to
+    // cast, for the quality and assignment at the last round's threshold.
+    if (options_.converged_step > 0.0 && round + 2 < options_.rounds &&
+        *std::max_element(moved.begin(), moved.end()) < options_.converged_step)
+      round = options_.rounds - 2;
   }
 
   // Quality and assignment from the last round's pairs (cast at the pose before its update).
@@ -204,33 +227,35 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     ObjectEstimate& e = result.objects[k];
     e.T_world_object = extents[k].T_world_object;
     ObjectQuality& q = e.quality;
-    double sq = 0.0, sq_of_threshold = 0.0;
-    int close = 0;
+    double sq = 0.0, sq_of_threshold = 0.0, paired = 0.0, close = 0.0;
     const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
     const Eigen::Vector3d centre = e.T_world_object.translation();
-    for (std::size_t s = 0; s < measurements.size(); ++s)
+    for (std::size_t s = 0; s < measurements.size(); ++s) {
+      const double w = last_weight[s][k];  // rays of the base sampling a cast ray stands for
       for (const RayPair& p : last_pairs[s][k]) {
         const double r = (p.model - p.measured).norm();  // within the last round's threshold
         const double t = last_tolerance[s].at(measurements[s].range[p.ray]);
-        ++q.inliers;
-        sq += r * r;
-        sq_of_threshold += r * r / (t * t);
-        close += r < last_threshold;
+        paired += w;
+        sq += w * r * r;
+        sq_of_threshold += w * r * r / (t * t);
+        close += r < last_threshold ? w : 0.0;
         result.assignment[s][p.ray] = targets[k].node;
         if (!options_.information) continue;
         const Eigen::Vector3d n = p.normal.cast<double>();
         Eigen::Matrix<double, 6, 1> J;
         J << n, (p.model.cast<double>() - centre).cross(n);
-        q.information.noalias() += J * J.transpose();
+        q.information.noalias() += w * J * J.transpose();
       }
-    q.expected = expected[k];
+    }
+    q.inliers = static_cast<int>(std::lround(paired));
+    q.expected = static_cast<int>(std::lround(expected[k]));
     q.inlier_ratio =
         q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
     q.close_ratio = options_.noise_sigmas > 0.0f && q.expected > 0
-                        ? std::min(1.0, static_cast<double>(close) / q.expected)
+                        ? std::min(1.0, close / q.expected)
                         : q.inlier_ratio;
-    q.rmse = q.inliers > 0 ? std::sqrt(sq / q.inliers) : 0.0;
-    q.rms_of_threshold = q.inliers > 0 ? std::sqrt(sq_of_threshold / q.inliers) : 0.0;
+    q.rmse = paired > 0.0 ? std::sqrt(sq / paired) : 0.0;
+    q.rms_of_threshold = paired > 0.0 ? std::sqrt(sq_of_threshold / paired) : 0.0;
     if (q.expected == 0)
       q.status = RefineStatus::kNotVisible;
     else if (q.inliers < options_.alignment.min_points)

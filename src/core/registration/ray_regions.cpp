@@ -123,4 +123,23 @@ std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
   return rects;
 }
 
+ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
+                                     const std::vector<ObjectExtent>& objects, float margin_m,
+                                     int stride, int max_rays) {
+  ObjectSampling out;
+  const bool bounded = max_rays > 0 && std::holds_alternative<PinholeModel>(m.model);
+  for (const ObjectExtent& o : objects) {
+    const std::vector<GridRect> rects = raysNearObjects(m, {o}, margin_m);
+    long long area = 0;
+    for (const GridRect& r : rects)
+      area += static_cast<long long>(r.x1 - r.x0) * static_cast<long long>(r.y1 - r.y0);
+    int s = std::max(1, stride);
+    while (bounded && area > static_cast<long long>(max_rays) * s * s) s *= 2;
+    for (const GridRect& r : rects) out.regions.push_back({r, s});
+    const float f = static_cast<float>(s) / static_cast<float>(std::max(1, stride));
+    out.weight.push_back(f * f);
+  }
+  return out;
+}
+
 }  // namespace sgt

@@ -132,42 +132,6 @@ std::size_t scratchHitsPooled() {
   return hitsPool().pooled;
 }
 
-// ------------------------------------------------------------------------------------ TileSet
-TileSet::TileSet(const SensorRays& rays, int stride) : stride_(std::max(1, stride)) {
-  if (rays.height >= 4) {
-    tile_w_ = 4, tile_h_ = 4;
-  } else {
-    tile_w_ = 16, tile_h_ = 1;
-  }
-  tiles_x_ = (rays.width + tile_w_ * stride_ - 1) / (tile_w_ * stride_);
-}
-
-TileSet TileSet::all(const SensorRays& rays) {
-  TileSet set(rays, 1);
-  const int tiles_y = (rays.height + set.tile_h_ - 1) / set.tile_h_;
-  set.tiles_.resize(static_cast<std::size_t>(set.tiles_x_) * tiles_y);
-  for (std::size_t i = 0; i < set.tiles_.size(); ++i) set.tiles_[i] = static_cast<std::int32_t>(i);
-  return set;
-}
-
-TileSet TileSet::covering(const SensorRays& rays, const std::vector<GridRect>& rects, int stride) {
-  TileSet set(rays, stride);
-  const int span_w = set.tile_w_ * set.stride_, span_h = set.tile_h_ * set.stride_;
-  const int tiles_y = (rays.height + span_h - 1) / span_h;
-  std::vector<char> used(static_cast<std::size_t>(set.tiles_x_) * tiles_y, 0);
-  for (const auto& r : rects) {
-    const int x0 = std::max(0, r.x0), y0 = std::max(0, r.y0);
-    const int x1 = std::min(rays.width, r.x1), y1 = std::min(rays.height, r.y1);
-    if (x0 >= x1 || y0 >= y1) continue;
-    for (int ty = y0 / span_h; ty <= (y1 - 1) / span_h; ++ty)
-      for (int tx = x0 / span_w; tx <= (x1 - 1) / span_w; ++tx)
-        used[static_cast<std::size_t>(ty) * set.tiles_x_ + tx] = 1;
-  }
-  for (std::size_t i = 0; i < used.size(); ++i)
-    if (used[i]) set.tiles_.push_back(static_cast<std::int32_t>(i));
-  return set;
-}
-
 // ------------------------------------------------------------------------------- RaycastScene
 RaycastScene::RaycastScene(const RaycastSceneOptions& options) : options_(options) {
   device_ = rtcNewDevice(nullptr);
