@@ -48,8 +48,9 @@ struct RefinerOptions {
   // phase), so successive rounds cast different rays and the grid's aliasing of the object's
   // silhouette does not repeat from round to round.
   bool jitter = false;
-  // A round in which no object's box corner moves by more than this (m) ends the refinement
-  // early: the last round is cast next (0: all rounds always).
+  // An object whose round moved no corner of its box by more than this (m) has converged: its
+  // rays are not cast in later rounds, and its quality comes from that round's pairs counted at
+  // the last round's tolerance (what a cast at it would pair). 0: every object takes all rounds.
   double converged_step = 0.0;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within

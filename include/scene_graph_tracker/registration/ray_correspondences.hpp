@@ -38,6 +38,9 @@ struct PairingStats {
   // max_dist, i.e. the points the group should show (a surface hidden behind something unknown
   // that is closer is not expected to show).
   std::vector<int> expected;
+  // When set (before the call), `expected` counts with this tolerance instead of max_dist (it must
+  // not exceed max_dist): what a cast at that tighter tolerance would count.
+  const RangeTolerance* expected_within = nullptr;
 };
 
 // Casts `tiles` of `m` (each ray only up to its measured range r + max_dist.at(r)) and returns

@@ -23,13 +23,15 @@ std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
 // The rays near each object (raysNearObjects) sampled at `stride`, coarsened for a depth image
 // (pinhole) object by powers of two until its region holds at most `max_rays` rays (0: no bound),
 // so that a near object costs what a far one does. weight[k] is how many rays of the `stride`
-// sampling each cast ray near object k stands for: (its stride / stride)^2.
+// sampling each cast ray near object k stands for: (its stride / stride)^2. Objects whose
+// `skip` entry is set (when given) get no region.
 struct ObjectSampling {
   std::vector<SampledRect> regions;
   std::vector<float> weight;  // per object
 };
 ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
                                      const std::vector<ObjectExtent>& objects, float margin_m,
-                                     int stride, int max_rays);
+                                     int stride, int max_rays,
+                                     const std::vector<char>* skip = nullptr);
 
 }  // namespace sgt

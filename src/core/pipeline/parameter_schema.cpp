@@ -300,11 +300,10 @@ Schema<T> refinementParams() {
                 "more sparsely (0: every ray_stride-th)"),
       flag<T>("refine/jitter", kRefinement, PIPE(refiner.jitter), kRuntime,
               "each round shifts the sampled ray grid, so successive rounds cast different rays"),
-      number<T>(
-          "refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
-          kRuntime,
-          "a round that moves no box corner of any object farther ends the refinement: the last "
-          "round is cast next (0: all rounds)"),
+      number<T>("refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
+                kRuntime,
+                "an object whose round moves no box corner farther has converged: its rays are no "
+                "longer cast (0: all rounds)"),
       number<T>("refine/pull_radius", kRefinement, PIPE(refiner.pull_radius), 0.0, 0.5, "m",
                 kRuntime,
                 "unexplained measurements this close to an object pull it towards them (0: off)"),

@@ -106,10 +106,93 @@ void appendAlignmentPairs(const std::vector<RayPair>& found, bool widened, float
     if ((p.model - p.measured).norm() < max_dist) out.push_back(p);
 }
 
+// An object's pairs of its last round per measurement set, the rays each cast ray stands for, and
+// the rays that hit it (weighted): what its quality is computed from.
+struct LastPairs {
+  std::vector<std::vector<RayPair>> pairs;
+  std::vector<float> weight;
+  double expected = 0.0;
+};
+
+// Drops the pairs beyond `tolerance` (per set): those a cast at it would not have paired.
+void keepWithin(LastPairs& l, const std::vector<RangeTolerance>& tolerance,
+                const std::vector<RangeMeasurements>& measurements) {
+  for (std::size_t s = 0; s < l.pairs.size(); ++s) {
+    std::vector<RayPair>& pairs = l.pairs[s];
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                               [&](const RayPair& p) {
+                                 const float r = measurements[s].range[p.ray];
+                                 return !((p.model - p.measured).norm() < tolerance[s].at(r));
+                               }),
+                pairs.end());
+  }
+}
+
+// Point-to-plane steps over `pairs` expressed in the frame T0 (the object's round-start pose).
+IterativeAlignment alignInFrame(const std::vector<RayPair>& pairs, const Eigen::Isometry3d& T0,
+                                const RefinerOptions& o) {
+  const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
+  std::vector<Eigen::Vector3f> model, measured, normals;
+  model.reserve(pairs.size()), measured.reserve(pairs.size()), normals.reserve(pairs.size());
+  for (const RayPair& p : pairs) {
+    model.push_back(T0_inv * p.model);
+    measured.push_back(T0_inv * p.measured);
+    normals.push_back(T0_inv.linear() * p.normal);
+  }
+  return alignPairs(model, measured, normals, NormalSide::kMoving, o.solver, o.steps,
+                    o.step_tolerance, o.alignment);
+}
+
 float thresholdOfRound(const RefinerOptions& o, int round) {
   if (o.rounds <= 1) return o.max_dist_last;
   const float f = static_cast<float>(round) / static_cast<float>(o.rounds - 1);
   return o.max_dist_first * std::pow(o.max_dist_last / o.max_dist_first, f);
+}
+
+// An object's quality from its last round's pairs; its status from them and `degenerate`.
+ObjectQuality qualityOf(const LastPairs& l, const std::vector<RangeTolerance>& tolerance,
+                        const std::vector<RangeMeasurements>& measurements, const ObjectEstimate& e,
+                        bool degenerate, const RefinerOptions& options) {
+  ObjectQuality q = e.quality;  // keeps last_alignment
+  double sq = 0.0, sq_of_threshold = 0.0, paired = 0.0, close = 0.0;
+  const float last_threshold = thresholdOfRound(options, options.rounds - 1);
+  const Eigen::Vector3d centre = e.T_world_object.translation();
+  for (std::size_t s = 0; s < l.pairs.size(); ++s) {
+    const double w = l.weight[s];  // rays of the base sampling a cast ray stands for
+    for (const RayPair& p : l.pairs[s]) {
+      const double r = (p.model - p.measured).norm();  // within the last round's threshold
+      const double t = tolerance[s].at(measurements[s].range[p.ray]);
+      paired += w;
+      sq += w * r * r;
+      sq_of_threshold += w * r * r / (t * t);
+      close += r < last_threshold ? w : 0.0;
+      if (!options.information) continue;
+      const Eigen::Vector3d n = p.normal.cast<double>();
+      Eigen::Matrix<double, 6, 1> J;
+      J << n, (p.model.cast<double>() - centre).cross(n);
+      q.information.noalias() += w * J * J.transpose();
+    }
+  }
+  q.inliers = static_cast<int>(std::lround(paired));
+  q.expected = static_cast<int>(std::lround(l.expected));
+  q.inlier_ratio =
+      q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
+  q.close_ratio = options.noise_sigmas > 0.0f && q.expected > 0 ? std::min(1.0, close / q.expected)
+                                                                : q.inlier_ratio;
+  q.rmse = paired > 0.0 ? std::sqrt(sq / paired) : 0.0;
+  q.rms_of_threshold = paired > 0.0 ? std::sqrt(sq_of_threshold / paired) : 0.0;
+  if (q.expected == 0)
+    q.status = RefineStatus::kNotVisible;
+  else if (q.inliers < options.alignment.min_points)
+    q.status = q.inlier_ratio < options.min_inlier_ratio ? RefineStatus::kFalseHypothesis
+                                                         : RefineStatus::kTooFewPoints;
+  else if (degenerate)
+    q.status = RefineStatus::kDegenerate;
+  else if (q.inlier_ratio < options.min_inlier_ratio)
+    q.status = RefineStatus::kFalseHypothesis;
+  else
+    q.status = RefineStatus::kOk;
+  return q;
 }
 
 }  // namespace
@@ -142,17 +225,20 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   for (int k = 0; k < n_obj; ++k)
     if (targets[k].pull_radius >= 0.0f)
       pull_radii[k] = std::min(options_.pull_radius, targets[k].pull_radius);
-  std::vector<char> degenerate(n_obj, 0);
-  std::vector<std::vector<std::vector<RayPair>>> last_pairs(measurements.size());
-  std::vector<RangeTolerance> last_tolerance(measurements.size());
-  std::vector<std::vector<float>> last_weight(measurements.size());
-  std::vector<double> expected(n_obj, 0.0);
+  std::vector<char> degenerate(n_obj, 0), done(n_obj, 0);
+  std::vector<LastPairs> kept(n_obj);
+  const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
+  std::vector<RangeTolerance> last_tolerance;
+  for (const RangeMeasurements& m : measurements)
+    last_tolerance.push_back(noiseBand(m, last_threshold, options_));
+  const bool early = options_.converged_step > 0.0;
   for (int round = 0; round < options_.rounds; ++round) {
     const float max_dist = thresholdOfRound(options_, round);
     const bool last = round + 1 == options_.rounds;
-    // 1. Correspondences from every sensor, cast from the current estimates.
+    // 1. Correspondences from every sensor, cast from the current estimates near the objects
+    // still being refined.
     std::vector<std::vector<RayPair>> pairs(n_obj);
-    std::fill(expected.begin(), expected.end(), 0.0);
+    std::vector<LastPairs> found(n_obj);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
       const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
@@ -161,17 +247,20 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
                           std::holds_alternative<PinholeModel>(m.model);
       const ObjectSampling sampling =
           sampleRaysNearObjects(m, extents, options_.roi_margin, coarse ? options_.ray_stride : 1,
-                                coarse ? options_.max_rays_per_object : 0);
+                                coarse ? options_.max_rays_per_object : 0, &done);
       const TileSet tiles = TileSet::sampled(*m.rays, sampling.regions,
                                              options_.jitter ? static_cast<unsigned>(round) : 0u);
       result.rays_cast += tiles.rayCount();
       PairingStats stats;
+      if (early) stats.expected_within = &last_tolerance[s];  // an object may stop this round
       const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
-      if (last) last_tolerance[s] = tolerance, last_weight[s] = sampling.weight;
-      last_pairs[s] = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
+      auto by_group = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
       for (int k = 0; k < n_obj; ++k) {
-        appendAlignmentPairs(last_pairs[s][k], options_.noise_sigmas > 0.0f, max_dist, pairs[k]);
-        expected[k] += sampling.weight[k] * stats.expected[k];
+        if (done[k]) continue;
+        appendAlignmentPairs(by_group[k], options_.noise_sigmas > 0.0f, max_dist, pairs[k]);
+        found[k].pairs.push_back(std::move(by_group[k]));
+        found[k].weight.push_back(sampling.weight[k]);
+        found[k].expected += sampling.weight[k] * stats.expected[k];
       }
       if (options_.pull_radius > 0.0f) {
         const UnexplainedPairing pulling{tolerance, options_.pull_front_margin, options_.roi_margin,
@@ -181,7 +270,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         const bool point_to_point = round < options_.pull_point_to_point_rounds;
         for (int k = 0; k < n_obj; ++k)
           for (const RayPair& p : pulls[k])
-            point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
+            if (!done[k]) point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
       }
     }
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
@@ -189,22 +278,10 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     // 2. Per object, Umeyama steps over the round's pairs in the object's round-start frame.
     std::vector<double> moved(n_obj, 0.0);
     tbb::parallel_for(0, n_obj, [&](int k) {
-      ObjectQuality& q = result.objects[k].quality;
-      if (degenerate[k]) return;
+      if (degenerate[k] || done[k]) return;
       const Eigen::Isometry3d T0 = extents[k].T_world_object;
-      const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
-      std::vector<Eigen::Vector3f> model, measured, normals;
-      model.reserve(pairs[k].size()), measured.reserve(pairs[k].size()),
-          normals.reserve(pairs[k].size());
-      for (const RayPair& p : pairs[k]) {
-        model.push_back(T0_inv * p.model);
-        measured.push_back(T0_inv * p.measured);
-        normals.push_back(T0_inv.linear() * p.normal);
-      }
-      const IterativeAlignment a =
-          alignPairs(model, measured, normals, NormalSide::kMoving, options_.solver, options_.steps,
-                     options_.step_tolerance, options_.alignment);
-      q.last_alignment = a.status;
+      const IterativeAlignment a = alignInFrame(pairs[k], T0, options_);
+      result.objects[k].quality.last_alignment = a.status;
       if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar)
         degenerate[k] = 1;
       if (a.steps > 0)
@@ -215,58 +292,23 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     for (int k = 0; k < n_obj; ++k)
       scene.setInstancePose(targets[k].node, extents[k].T_world_object);
     scene.commit();
-    // Converged: no object moved by more than converged_step; only the last round is left to
-    // cast, for the quality and assignment at the last round's threshold.
-    if (options_.converged_step > 0.0 && round + 2 < options_.rounds &&
-        *std::max_element(moved.begin(), moved.end()) < options_.converged_step)
-      round = options_.rounds - 2;
+    // 3. An object's last round: the last one, or one that moved it less than converged_step.
+    // Its quality comes from that round's pairs at the last round's tolerance.
+    for (int k = 0; k < n_obj; ++k) {
+      if (done[k] || !(last || (early && moved[k] < options_.converged_step))) continue;
+      if (!last) keepWithin(found[k], last_tolerance, measurements);
+      kept[k] = std::move(found[k]);
+      done[k] = 1;
+    }
+    if (std::all_of(done.begin(), done.end(), [](char d) { return d != 0; })) break;
   }
 
-  // Quality and assignment from the last round's pairs (cast at the pose before its update).
   for (int k = 0; k < n_obj; ++k) {
     ObjectEstimate& e = result.objects[k];
     e.T_world_object = extents[k].T_world_object;
-    ObjectQuality& q = e.quality;
-    double sq = 0.0, sq_of_threshold = 0.0, paired = 0.0, close = 0.0;
-    const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
-    const Eigen::Vector3d centre = e.T_world_object.translation();
-    for (std::size_t s = 0; s < measurements.size(); ++s) {
-      const double w = last_weight[s][k];  // rays of the base sampling a cast ray stands for
-      for (const RayPair& p : last_pairs[s][k]) {
-        const double r = (p.model - p.measured).norm();  // within the last round's threshold
-        const double t = last_tolerance[s].at(measurements[s].range[p.ray]);
-        paired += w;
-        sq += w * r * r;
-        sq_of_threshold += w * r * r / (t * t);
-        close += r < last_threshold ? w : 0.0;
-        result.assignment[s][p.ray] = targets[k].node;
-        if (!options_.information) continue;
-        const Eigen::Vector3d n = p.normal.cast<double>();
-        Eigen::Matrix<double, 6, 1> J;
-        J << n, (p.model.cast<double>() - centre).cross(n);
-        q.information.noalias() += w * J * J.transpose();
-      }
-    }
-    q.inliers = static_cast<int>(std::lround(paired));
-    q.expected = static_cast<int>(std::lround(expected[k]));
-    q.inlier_ratio =
-        q.expected > 0 ? std::min(1.0, static_cast<double>(q.inliers) / q.expected) : 0.0;
-    q.close_ratio = options_.noise_sigmas > 0.0f && q.expected > 0
-                        ? std::min(1.0, close / q.expected)
-                        : q.inlier_ratio;
-    q.rmse = paired > 0.0 ? std::sqrt(sq / paired) : 0.0;
-    q.rms_of_threshold = paired > 0.0 ? std::sqrt(sq_of_threshold / paired) : 0.0;
-    if (q.expected == 0)
-      q.status = RefineStatus::kNotVisible;
-    else if (q.inliers < options_.alignment.min_points)
-      q.status = q.inlier_ratio < options_.min_inlier_ratio ? RefineStatus::kFalseHypothesis
-                                                            : RefineStatus::kTooFewPoints;
-    else if (degenerate[k])
-      q.status = RefineStatus::kDegenerate;
-    else if (q.inlier_ratio < options_.min_inlier_ratio)
-      q.status = RefineStatus::kFalseHypothesis;
-    else
-      q.status = RefineStatus::kOk;
+    e.quality = qualityOf(kept[k], last_tolerance, measurements, e, degenerate[k], options_);
+    for (std::size_t s = 0; s < kept[k].pairs.size(); ++s)
+      for (const RayPair& p : kept[k].pairs[s]) result.assignment[s][p.ray] = targets[k].node;
   }
   return result;
 }

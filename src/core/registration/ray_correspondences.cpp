@@ -29,13 +29,14 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f o = m.T_world_sensor.translation().cast<float>();
   const SensorRays& rays = *m.rays;
+  const RangeTolerance* within = stats ? stats->expected_within : nullptr;
   std::vector<int> expected(n_groups, 0);
   collectInTileOrder(
       tiles.tiles().size(), out, &expected, [&](std::size_t b, auto& pairs, int* count) {
         tiles.forTile(rays, b, [&](int, std::size_t i) {
           const int g = groups(hits.node[i]);
           if (g < 0 || !m.valid(i)) return;
-          ++count[g];
+          if (!within || hits.range[i] <= m.range[i] + within->at(m.range[i])) ++count[g];
           if (std::abs(hits.range[i] - m.range[i]) >= max_dist.at(m.range[i])) return;
           const Eigen::Vector3f origin =
               rays.origins.empty() ? o : Eigen::Vector3f(o + R * rays.origins[i]);

@@ -125,11 +125,12 @@ std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
 
 ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
                                      const std::vector<ObjectExtent>& objects, float margin_m,
-                                     int stride, int max_rays) {
+                                     int stride, int max_rays, const std::vector<char>* skip) {
   ObjectSampling out;
   const bool bounded = max_rays > 0 && std::holds_alternative<PinholeModel>(m.model);
-  for (const ObjectExtent& o : objects) {
-    const std::vector<GridRect> rects = raysNearObjects(m, {o}, margin_m);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const std::vector<GridRect> rects =
+        skip && (*skip)[k] ? std::vector<GridRect>{} : raysNearObjects(m, {objects[k]}, margin_m);
     long long area = 0;
     for (const GridRect& r : rects)
       area += static_cast<long long>(r.x1 - r.x0) * static_cast<long long>(r.y1 - r.y0);
