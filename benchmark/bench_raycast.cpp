@@ -42,6 +42,22 @@ void BM_PaperFrameScene(benchmark::State& state) {
 }
 BENCHMARK(BM_PaperFrameScene)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The same casts asking only for what the bare loop below writes: range and node
+// (kRangeAndNodeOnly, as pre-segmentation casts).
+void BM_PaperFrameSceneRangeNode(benchmark::State& state) {
+  PaperScene& s = paperScene();
+  RayHits camera_hits, lidar_hits;
+  for (auto _ : state) {
+    s.scene->cast(s.camera_rays, s.T_world_camera, camera_hits, nullptr, {}, kRangeAndNodeOnly);
+    s.scene->cast(s.lidar_rays, s.T_world_lidar, lidar_hits, nullptr, {}, kRangeAndNodeOnly);
+    benchmark::DoNotOptimize(camera_hits.range.data());
+    benchmark::DoNotOptimize(lidar_hits.range.data());
+  }
+  setCounters(state, s.camera_rays.size() + s.lidar_rays.size());
+  state.SetLabel(meshLabel(s));
+}
+BENCHMARK(BM_PaperFrameSceneRangeNode)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The ceiling: one flat Embree scene (building and the five posed objects as plain triangle
 // geometry), 4x4 tiles of rtcIntersect16 with the coherent flag over both cores, writing only
 // the range and geometry id.

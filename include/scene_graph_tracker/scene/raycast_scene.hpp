@@ -45,6 +45,15 @@ struct RayHits {
   void resize(int w, int h);
 };
 
+// RayHits fields a cast may skip (RaycastScene::cast); range and node are always written.
+enum HitAttribute : unsigned {
+  kHitPoint = 1u,
+  kHitNormal = 2u,
+  kHitPrimitive = 4u,
+  kRangeAndNodeOnly = 0u,
+  kAllHitAttributes = kHitPoint | kHitNormal | kHitPrimitive,
+};
+
 // Ray-hit buffers that every frame's casts reuse: a fresh 640 x 480 RayHits is 11 MB to
 // allocate, fill and fault in, a cost that grew with the image rather than with the rays cast.
 // scratchHits() lends a buffer of the grid's size from a process-wide pool until the lease ends;
@@ -130,9 +139,12 @@ class RaycastScene {
   void commit();
 
   // Casts every ray of `tiles` (all rays by default) from the sensor pose into `hits`
-  // (resized to the grid; rays outside the tiles are left untouched).
+  // (resized to the grid; rays outside the tiles are left untouched). Every cast ray gets its
+  // range and node; its point, normal and primitive only as `attributes` asks (the others keep
+  // older values), so that a caller that needs only what was hit where saves their work.
   void cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor, RayHits& hits,
-            const TileSet* tiles = nullptr, const CastLimit& limit = {}) const;
+            const TileSet* tiles = nullptr, const CastLimit& limit = {},
+            unsigned attributes = kAllHitAttributes) const;
   // Casts world-frame rays; `hits` becomes a rays.size() x 1 grid.
   void cast(const std::vector<WorldRay>& rays, RayHits& hits) const;
 
@@ -150,7 +162,8 @@ class RaycastScene {
   unsigned slotFor(NodeId node) const;
   unsigned attachInstance(NodeId node, MeshId mesh, const Eigen::Isometry3d& T);
   void writeTransform(unsigned slot, const Eigen::Isometry3d& T);
-  void writeHit(const RTCRayHit16& rh, int lane, std::size_t i, RayHits& hits) const;
+  void writeHit(const RTCRayHit16& rh, int lane, std::size_t i, RayHits& hits,
+                unsigned attributes = kAllHitAttributes) const;
 
   RaycastSceneOptions options_;
   RTCDeviceTy* device_ = nullptr;

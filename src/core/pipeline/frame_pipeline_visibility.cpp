@@ -45,7 +45,7 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
                                             coarse ? ro.ray_stride : 1);
     const RangeTolerance threshold = noiseBand(m, ro.max_dist_last, ro);
     scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
-               limited ? CastLimit{&m.range, threshold} : CastLimit{});
+               limited ? CastLimit{&m.range, threshold} : CastLimit{}, kRangeAndNodeOnly);
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (hits.node[i] != node || !m.valid(i)) return;
       ++c.reaching;

@@ -304,7 +304,8 @@ void clearPacket(RTCRayHit16& rh, int valid[16]) {
 }  // namespace
 
 void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world_sensor,
-                        RayHits& hits, const TileSet* tiles, const CastLimit& limit) const {
+                        RayHits& hits, const TileSet* tiles, const CastLimit& limit,
+                        unsigned attributes) const {
   if (dirty_) throw std::logic_error("RaycastScene::cast: commit() the scene after changing it");
   if (limit.range && limit.range->size() != rays.size())
     throw std::invalid_argument("RaycastScene::cast: " + std::to_string(limit.range->size()) +
@@ -346,7 +347,7 @@ void RaycastScene::cast(const SensorRays& rays, const Eigen::Isometry3d& T_world
           });
           rtcIntersect16(valid, scene, &context, &rh);
           for (int k = 0; k < 16; ++k)
-            if (valid[k]) writeHit(rh, k, index[k], hits);
+            if (valid[k]) writeHit(rh, k, index[k], hits, attributes);
         }
       });
 }
@@ -396,23 +397,28 @@ bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float rad
   return true;
 }
 
-void RaycastScene::writeHit(const RTCRayHit16& rh, int k, std::size_t i, RayHits& hits) const {
+void RaycastScene::writeHit(const RTCRayHit16& rh, int k, std::size_t i, RayHits& hits,
+                            unsigned attributes) const {
   if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
     hits.range[i] = std::numeric_limits<float>::infinity();
     hits.node[i] = kNoNode;
     return;
   }
   const float r = rh.ray.tfar[k];
-  const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
   const Slot& s = slots_[rh.hit.instID[0][k]];
-  Eigen::Vector3f n = s.R * Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
-  n.normalize();
-  if (n.dot(d) > 0.0f) n = -n;
   hits.range[i] = r;
-  hits.point[i] = Eigen::Vector3f(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]) + r * d;
-  hits.normal[i] = n;
   hits.node[i] = s.node;
-  hits.primitive[i] = rh.hit.primID[k];
+  if (attributes == kRangeAndNodeOnly) return;
+  const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+  if (attributes & kHitNormal) {
+    Eigen::Vector3f n = s.R * Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+    n.normalize();
+    if (n.dot(d) > 0.0f) n = -n;
+    hits.normal[i] = n;
+  }
+  if (attributes & kHitPoint)
+    hits.point[i] = Eigen::Vector3f(rh.ray.org_x[k], rh.ray.org_y[k], rh.ray.org_z[k]) + r * d;
+  if (attributes & kHitPrimitive) hits.primitive[i] = rh.hit.primID[k];
 }
 
 }  // namespace sgt

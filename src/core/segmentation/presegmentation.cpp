@@ -31,7 +31,8 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   if (n == 0) return out;
   const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
   RayHits& hits = *lease;
-  scene.cast(*m.rays, m.T_world_sensor, hits);  // every ray: no stale hit is read
+  // Every ray, so no stale hit is read; only what was hit where.
+  scene.cast(*m.rays, m.T_world_sensor, hits, nullptr, {}, kRangeAndNodeOnly);
   const NodeId map = scene.staticMapNode();
   const RangeTolerance tolerance(m, options.min_tolerance, options.noise, options.sigma_factor);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
