@@ -117,6 +117,7 @@ class RaycastScene {
   // Registers a mesh and builds its BVH; instances of it share that BVH.
   MeshId addMesh(std::shared_ptr<const TriangleMesh> mesh);
   const TriangleMesh& mesh(MeshId id) const;
+  const Eigen::AlignedBox3f& meshBox(MeshId id) const;  // its bounding box, computed once
   std::size_t meshCount() const { return meshes_.size(); }
 
   // The static map (building) as node `node`, with the identity pose. Replaces a previous map.
@@ -170,7 +171,8 @@ class RaycastScene {
   RTCSceneTy* top_ = nullptr;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
   std::vector<RTCSceneTy*> mesh_scenes_;
-  std::vector<Slot> slots_;  // indexed by Embree geometry id (dense)
+  std::vector<Eigen::AlignedBox3f> boxes_;  // per mesh
+  std::vector<Slot> slots_;                 // indexed by Embree geometry id (dense)
   std::vector<unsigned> free_slots_;
   std::unordered_map<NodeId, unsigned> slot_of_node_;
   NodeId static_map_node_ = kNoNode;

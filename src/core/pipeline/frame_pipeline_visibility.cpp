@@ -59,8 +59,7 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
 
 bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets) {
   const NodeId node = tracks_[k].out.node;
-  const ObjectExtent extent{scene_.instancePose(node),
-                            scene_.mesh(scene_.instanceMesh(node)).boundingBox()};
+  const ObjectExtent extent{scene_.instancePose(node), scene_.meshBox(scene_.instanceMesh(node))};
   const RefinerOptions ro = withSensorNoise(options_.refiner);
   const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
   if (seen.reaching < ro.alignment.min_points ||

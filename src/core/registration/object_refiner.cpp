@@ -215,7 +215,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   for (int k = 0; k < n_obj; ++k) {
     groups.set(targets[k].node, k);
     meshes[k] = scene.instanceMesh(targets[k].node);
-    extents[k].box = scene.mesh(meshes[k]).boundingBox();
+    extents[k].box = scene.meshBox(meshes[k]);
     extents[k].T_world_object = scene.instancePose(targets[k].node);
     result.objects.push_back({targets[k].node, extents[k].T_world_object, {}});
   }

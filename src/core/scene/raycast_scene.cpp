@@ -170,6 +170,7 @@ MeshId RaycastScene::addMesh(std::shared_ptr<const TriangleMesh> mesh) {
   rtcReleaseGeometry(geom);
   rtcCommitScene(scene);
   checkDevice(device_, "mesh BVH build");
+  boxes_.push_back(mesh->boundingBox());
   meshes_.push_back(std::move(mesh));
   mesh_scenes_.push_back(scene);
   return static_cast<MeshId>(meshes_.size() - 1);
@@ -179,6 +180,11 @@ const TriangleMesh& RaycastScene::mesh(MeshId id) const {
   if (id < 0 || static_cast<std::size_t>(id) >= meshes_.size())
     throw std::out_of_range("RaycastScene: unknown mesh id " + std::to_string(id));
   return *meshes_[id];
+}
+
+const Eigen::AlignedBox3f& RaycastScene::meshBox(MeshId id) const {
+  mesh(id);  // checks the id
+  return boxes_[id];
 }
 
 void RaycastScene::setStaticMap(std::shared_ptr<const TriangleMesh> map, NodeId node) {
