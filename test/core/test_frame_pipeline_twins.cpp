@@ -61,9 +61,10 @@ TEST(FramePipelineTwins, TracksStartedOnTheirTwinsTurnRightAndBecomeSure) {
     EXPECT_LT(on.error_deg.at(name), 10.0) << name;
     EXPECT_GT(on.confidence.at(name), 0.95) << name;
   }
-  // The screwdriver has no twin; the crate's, upside down, is plain to see: both untouched, sure.
-  for (const char* name : {"screwdriver", "klt"})
-    EXPECT_NEAR(on.error_deg.at(name), off.error_deg.at(name), 1e-9) << name;
+  // The screwdriver has no twin; the crate's, upside down, is plain to see: neither is tested, both
+  // stay sure. The crate is untouched. The screwdriver's pose is not compared: its fit sees its
+  // neighbours (occlusion and unexplained points near it), which the tests turn.
+  EXPECT_NEAR(on.error_deg.at("klt"), off.error_deg.at("klt"), 1e-9);
   EXPECT_DOUBLE_EQ(on.confidence.at("screwdriver"), 1.0);
   EXPECT_GT(on.confidence.at("klt"), 0.999);
 }
