@@ -52,26 +52,6 @@ Eigen::Isometry3d withoutSymmetricTwist(const Eigen::Isometry3d& T_start,
   return T_start * rel;
 }
 
-// Scales the update `delta` (object frame) along its screw so that no corner of `box` moves by
-// more than `limit`: a few near-degenerate pairs (a thin object's sliver) can otherwise produce
-// an arbitrarily large step that no pair of the round supports.
-Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::AlignedBox3f& box,
-                            double limit) {
-  double largest = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p =
-        box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).cast<double>();
-    largest = std::max(largest, (delta * p - p).norm());
-  }
-  if (largest <= limit) return delta;
-  const double f = limit / largest;
-  const Eigen::AngleAxisd aa(delta.linear());
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.linear() = Eigen::AngleAxisd(aa.angle() * f, aa.axis()).toRotationMatrix();
-  out.translation() = delta.translation() * f;
-  return out;
-}
-
 // How far the step from `from` to `to` moves the farthest corner of `box` (object frame).
 double cornerShift(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
                    const Eigen::AlignedBox3f& box) {
@@ -82,6 +62,21 @@ double cornerShift(const Eigen::Isometry3d& from, const Eigen::Isometry3d& to,
     largest = std::max(largest, (to * p - from * p).norm());
   }
   return largest;
+}
+
+// Scales the update `delta` (object frame) along its screw so that no corner of `box` moves by
+// more than `limit`: a few near-degenerate pairs (a thin object's sliver) can otherwise produce
+// an arbitrarily large step that no pair of the round supports.
+Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::AlignedBox3f& box,
+                            double limit) {
+  const double largest = cornerShift(Eigen::Isometry3d::Identity(), delta, box);
+  if (largest <= limit) return delta;
+  const double f = limit / largest;
+  const Eigen::AngleAxisd aa(delta.linear());
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::AngleAxisd(aa.angle() * f, aa.axis()).toRotationMatrix();
+  out.translation() = delta.translation() * f;
+  return out;
 }
 
 // A point-to-point pair as three point-to-plane rows along orthonormal axes (the linear step sums

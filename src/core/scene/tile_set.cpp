@@ -79,13 +79,19 @@ TileSet TileSet::sampled(const SensorRays& rays, const std::vector<SampledRect>&
       Tile tile{static_cast<std::int32_t>(l.ox + (t % l.tiles_x) * l.span_w),
                 static_cast<std::int32_t>(l.oy + (t / l.tiles_x) * l.span_h),
                 static_cast<std::uint16_t>(l.stride), 0};
-      for (int k = 0; k < set.tile_w_ * set.tile_h_; ++k) {
-        const int x = tile.x0 + (k % set.tile_w_) * l.stride;
-        const int y = tile.y0 + (k / set.tile_w_) * l.stride;
-        if (x >= rays.width || y >= rays.height) continue;
-        const bool finer = std::any_of(levels.begin(), levels.begin() + li,
-                                       [&](const StrideLevel& f) { return f.casts(x, y); });
-        if (!finer) tile.lanes |= static_cast<std::uint16_t>(1u << k);
+      const bool inside = tile.x0 + (set.tile_w_ - 1) * l.stride < rays.width &&
+                          tile.y0 + (set.tile_h_ - 1) * l.stride < rays.height;
+      if (li == 0 && inside) {  // the common case: every lane, nothing to check
+        tile.lanes = static_cast<std::uint16_t>((1u << (set.tile_w_ * set.tile_h_)) - 1u);
+      } else {
+        for (int k = 0; k < set.tile_w_ * set.tile_h_; ++k) {
+          const int x = tile.x0 + (k % set.tile_w_) * l.stride;
+          const int y = tile.y0 + (k / set.tile_w_) * l.stride;
+          if (x >= rays.width || y >= rays.height) continue;
+          const bool finer = std::any_of(levels.begin(), levels.begin() + li,
+                                         [&](const StrideLevel& f) { return f.casts(x, y); });
+          if (!finer) tile.lanes |= static_cast<std::uint16_t>(1u << k);
+        }
       }
       if (tile.lanes == 0) continue;
       set.rays_ += std::bitset<16>(tile.lanes).count();
