@@ -105,13 +105,15 @@ struct LostTrackResume {
 // have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
 // Unless the turned fit explains a larger share of its rays closely than the track's fits have
 // (close ratio against fit closeness): then the track was the wrong one (confirmed in a wrong
-// turn) and the fit corrects it.
+// turn) and the fit corrects it. A refused fit still counts towards fit support: the gate judges
+// the turn, not whether the measurements agree with a model there.
 struct TurnGate {
   static bool rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
                       double turn_distance2, const LifecycleOptions& o);
 };
 
-// The running share of the rays reaching a track's model that its good fits explain.
+// The running share of the rays reaching a track's model that its fits explain (good fits and
+// those the turn gate refuses).
 struct FitSupport {
   static double next(double support, double inlier_ratio, const LifecycleOptions& o);
   // A track (not a child, whose fits its parent cuts) whose fits the measurements contradict:

@@ -34,6 +34,12 @@ void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
   if (ChildOfContainer::collectsAbsence(e.child))
     absent = before.state == TrackState::kTentative ? TentativeAbsence::absent(e.fit, o)
                                                     : e.absence_seen;
+  // The turn gate keeps the track's pose, but the fit's rays still measured the model there: a
+  // track whose turned fits explain too little is contradicted as one whose fits do.
+  if (e.fit.status == RefineStatus::kImplausibleTurn) {
+    life.fit_support = FitSupport::next(life.fit_support, e.fit.inlier_ratio, o);
+    absent |= FitSupport::unsupported(e.child, life.fit_support, o);
+  }
   life.absent_since = absentSince(life.absent_since, absent, e.stamp);
   if (before.state == TrackState::kConfirmed) life.state = TrackState::kLost;
 }
