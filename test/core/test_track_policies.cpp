@@ -145,12 +145,14 @@ TEST(FitSupport, AConfirmedTrackWhoseFitsExplainLittleCollectsAbsenceAndGoes) {
   EXPECT_LT(next(tentative, goodFit(1.0, 0.4), kOptions).life.absent_since, 0.0);
 }
 
-// The turn gate keeps a track's pose, not its support: turned fits that explain little
-// contradict the track as taken fits do, and remove it; turned fits that explain most keep it.
-TEST(FitSupport, FitsTheTurnGateRejectsStillCount) {
-  const auto turned = [](double stamp, double inlier_ratio) {
-    TrackEvidence e = goodFit(stamp, inlier_ratio);
+// Where the turn gate keeps a track in view, the measurements at its model support it as a taken
+// fit's would: too little agreement contradicts it and removes it; enough keeps it; out of view
+// they leave its support alone.
+TEST(FitSupport, WhereTheTurnGateKeepsATrackTheMeasurementsCount) {
+  const auto coasting = [](double stamp, double agreement) {
+    TrackEvidence e = goodFit(stamp, 0.9);
     e.fit.status = RefineStatus::kImplausibleTurn;
+    e.coast_agreement = agreement;
     return e;
   };
   Transition t{};
@@ -158,18 +160,21 @@ TEST(FitSupport, FitsTheTurnGateRejectsStillCount) {
   double stamp = 0.0;
   while (!FitSupport::unsupported(false, t.life.fit_support, kOptions) && stamp < 1.0) {
     stamp += 0.1;
-    t = next(t.life, turned(stamp, 0.4), kOptions);
+    t = next(t.life, coasting(stamp, 0.4), kOptions);
     EXPECT_EQ(t.fit_use, FitUse::kCoast);
   }
-  EXPECT_NEAR(stamp, 0.3, 1e-9) << "0.95 falls below 0.65 in three fits explaining 40 %";
+  EXPECT_NEAR(stamp, 0.3, 1e-9) << "0.95 falls below 0.65 in three frames agreeing 40 %";
   EXPECT_DOUBLE_EQ(t.life.absent_since, stamp);
-  t = next(t.life, turned(stamp + kOptions.remove_after_s, 0.4), kOptions);
+  t = next(t.life, coasting(stamp + kOptions.remove_after_s, 0.4), kOptions);
   EXPECT_TRUE(t.remove);
-  t.life = confirmedLife(0.0);
-  for (int f = 1; f <= 40; ++f) t = next(t.life, turned(0.1 * f, 0.9), kOptions);
-  EXPECT_EQ(t.life.state, TrackState::kLost);
-  EXPECT_LT(t.life.absent_since, 0.0);
-  EXPECT_FALSE(t.remove);
+  for (double agreement : {0.9, -1.0}) {
+    t.life = confirmedLife(0.0);
+    for (int f = 1; f <= 40; ++f) t = next(t.life, coasting(0.1 * f, agreement), kOptions);
+    EXPECT_EQ(t.life.state, TrackState::kLost);
+    EXPECT_LT(t.life.absent_since, 0.0);
+    EXPECT_FALSE(t.remove);
+  }
+  EXPECT_DOUBLE_EQ(t.life.fit_support, 0.95) << "out of view: unchanged";
 }
 
 TEST(Confirmation, NeedsHitsDetectionsAndSupport) {

@@ -204,7 +204,10 @@ class FramePipeline {
   // that reach its model, enough (min_points) and most of those that would reach it without the
   // other tracks (max_hidden_fraction_for_absence) find no surface there.
   // frame_pipeline_visibility.cpp.
-  bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets);
+  // `agreement` (when given): the share of those rays that agree with the model, or -1 when too
+  // few reach it or other tracks hide more of it.
+  bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets,
+                   double* agreement = nullptr);
   // Track k, seen absent where it coasts, dropped straight down (world -z) by up to
   // unseen_drop_m onto what lies below it: when the sensors cannot see it missing there (it went
   // down into a container, behind a wall), it stays there with a restarted filter. Returns

@@ -57,8 +57,8 @@ struct PipelineOptions {
   // (it counts neither as a hit nor towards fit support).
   int min_weak_fit_inliers = 6;
   // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
-  // a track's good fits (and of those the turn gate refuses), i.e. the share of the rays reaching
-  // its model that its measurements agree with (the others pass through the model to something
+  // a track's good fits (and, when the turn gate refuses a fit, of its model where it is kept),
+  // i.e. the share of the rays reaching its model that its measurements agree with (the others pass through the model to something
   // behind it). Confirmation needs it at min_fit_support as well, so a few lucky fits among poor
   // ones do not confirm; a confirmed track below it collects evidence of absence and explains no
   // points in pre-segmentation. A model fitted to a patch of something else (a person) explains a

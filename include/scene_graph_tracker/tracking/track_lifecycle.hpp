@@ -61,10 +61,14 @@ struct TrackLife {
 // What one frame says about a track.
 struct TrackEvidence {
   double stamp = 0.0;
-  bool child = false;              // in or on another track (its scene-graph parent moves it)
-  ObjectQuality fit;               // this frame's refinement
-  double fit_jump_m = 0.0;         // how far the refinement moved it
-  bool absence_seen = false;       // a coasting track: the rays that should reach it find nothing
+  bool child = false;         // in or on another track (its scene-graph parent moves it)
+  ObjectQuality fit;          // this frame's refinement
+  double fit_jump_m = 0.0;    // how far the refinement moved it
+  bool absence_seen = false;  // a coasting track: the rays that should reach it find nothing
+  // A track whose fit the turn gate refused, in view where it coasts (enough rays reach it, other
+  // tracks hide at most max_hidden_fraction_for_absence of it): the share of those rays its model
+  // there explains. < 0: none such.
+  double coast_agreement = -1.0;
   bool sunk = false;               // its model lies partly inside the static map
   bool queued_for_search = false;  // an orientation search is already pending for it
 };
@@ -105,15 +109,14 @@ struct LostTrackResume {
 // have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
 // Unless the turned fit explains a larger share of its rays closely than the track's fits have
 // (close ratio against fit closeness): then the track was the wrong one (confirmed in a wrong
-// turn) and the fit corrects it. A refused fit still counts towards fit support: the gate judges
-// the turn, not whether the measurements agree with a model there.
+// turn) and the fit corrects it.
 struct TurnGate {
   static bool rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
                       double turn_distance2, const LifecycleOptions& o);
 };
 
-// The running share of the rays reaching a track's model that its fits explain (good fits and
-// those the turn gate refuses).
+// The running share of the rays reaching a track's model that its measurements agree with: at
+// its good fits, and where the turn gate keeps it (TrackEvidence::coast_agreement).
 struct FitSupport {
   static double next(double support, double inlier_ratio, const LifecycleOptions& o);
   // A track (not a child, whose fits its parent cuts) whose fits the measurements contradict:

@@ -145,9 +145,14 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
         tracks_[k].life.state != TrackState::kTentative)
       coasting.push_back(k);
   if (!coasting.empty()) scene_.commit();
-  for (std::size_t k : coasting)
-    evidence[k].absence_seen =
-        seesAbsence(k, sets) && !(options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets));
+  for (std::size_t k : coasting) {
+    TrackEvidence& e = evidence[k];
+    const bool gated = e.fit.status == RefineStatus::kImplausibleTurn;
+    e.absence_seen = seesAbsence(k, sets, gated ? &e.coast_agreement : nullptr);
+    // Dropped out of sight: what the rays showed where it was says nothing of where it is now.
+    if (e.absence_seen && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets))
+      e.absence_seen = false, e.coast_agreement = -1.0;
+  }
   for (std::size_t k : order)
     evidence[k].sunk =
         !evidence[k].child && sunkIntoMap(tracks_[k].out.class_name, tracks_[k].out.T_map_object);

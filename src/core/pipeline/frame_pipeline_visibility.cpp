@@ -57,21 +57,26 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
 
 }  // namespace
 
-bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets) {
+bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets,
+                                double* agreement) {
+  if (agreement) *agreement = -1.0;
   const NodeId node = tracks_[k].out.node;
   const ObjectExtent extent{scene_.instancePose(node), scene_.meshBox(scene_.instanceMesh(node))};
   const RefinerOptions ro = withSensorNoise(options_.refiner);
   const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
-  if (seen.reaching < ro.alignment.min_points ||
-      seen.agreeing >= ro.min_inlier_ratio * seen.reaching)
-    return false;
+  if (seen.reaching < ro.alignment.min_points) return false;
+  const bool missing = seen.agreeing < ro.min_inlier_ratio * seen.reaching;
+  if (!missing && !agreement) return false;
   for (const Track& t : tracks_)
     if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
   scene_.commit();
   const RayCounts alone = countRays(scene_, node, extent, sets, ro, false);
   for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, true);
   scene_.commit();
-  return seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
+  const bool in_view =
+      seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
+  if (agreement && in_view) *agreement = static_cast<double>(seen.agreeing) / seen.reaching;
+  return missing && in_view;
 }
 
 bool FramePipeline::dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets) {

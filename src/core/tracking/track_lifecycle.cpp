@@ -34,10 +34,11 @@ void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
   if (ChildOfContainer::collectsAbsence(e.child))
     absent = before.state == TrackState::kTentative ? TentativeAbsence::absent(e.fit, o)
                                                     : e.absence_seen;
-  // The turn gate keeps the track's pose, but the fit's rays still measured the model there: a
-  // track whose turned fits explain too little is contradicted as one whose fits do.
-  if (e.fit.status == RefineStatus::kImplausibleTurn) {
-    life.fit_support = FitSupport::next(life.fit_support, e.fit.inlier_ratio, o);
+  // The turn gate refused the fit but keeps the track in view: the measurements at the pose it
+  // keeps support it as a taken fit's would (a track the gate keeps where an unknown thing stands
+  // is contradicted as one whose fits are taken).
+  if (e.coast_agreement >= 0.0) {
+    life.fit_support = FitSupport::next(life.fit_support, e.coast_agreement, o);
     absent |= FitSupport::unsupported(e.child, life.fit_support, o);
   }
   life.absent_since = absentSince(life.absent_since, absent, e.stamp);
