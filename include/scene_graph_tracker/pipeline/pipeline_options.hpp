@@ -58,11 +58,11 @@ struct PipelineOptions {
   int min_weak_fit_inliers = 6;
   // Fit support: the running mean (weight fit_support_weight per frame) of the inlier ratios of
   // a track's good fits (and, when the turn gate refuses a fit, of its model where it is kept),
-  // i.e. the share of the rays reaching its model that its measurements agree with (the others pass through the model to something
-  // behind it). Confirmation needs it at min_fit_support as well, so a few lucky fits among poor
-  // ones do not confirm; a confirmed track below it collects evidence of absence and explains no
-  // points in pre-segmentation. A model fitted to a patch of something else (a person) explains a
-  // part of its rays; a real object nearly all of them.
+  // i.e. the share of the rays reaching its model that its measurements agree with (the others pass
+  // through the model to something behind it). Confirmation needs it at min_fit_support as well, so
+  // a few lucky fits among poor ones do not confirm; a confirmed track below it collects evidence
+  // of absence and explains no points in pre-segmentation. A model fitted to a patch of something
+  // else (a person) explains a part of its rays; a real object nearly all of them.
   double fit_support_weight = 0.25;
   double min_fit_support = 0.65;
   // A track whose model lies partly inside the static map is nowhere a real object can be:
