@@ -67,24 +67,43 @@ void FrameAssembler::addDepth(AssembledFrame& out, const sensor_msgs::Image& dep
                                                   T_odom_camera, depth.header.frame_id));
 }
 
+namespace {
+
+// The array's hypotheses into the frame, T_base_frame applied; a bad one costs itself.
+void addHypothesisArray(AssembledFrame& out, const Eigen::Isometry3d& T_base_frame,
+                        const scene_graph_tracker::PoseHypothesisArray& array) {
+  for (const auto& p : array.hypotheses) {
+    try {
+      if (!std::isfinite(p.score)) throw ConversionError("non-finite score");
+      out.frame.hypotheses.push_back(
+          {p.class_name, T_base_frame * toEigen(p.pose), p.score, p.up_to_box_half_turns != 0});
+    } catch (const ConversionError& e) {
+      out.warnings.push_back("hypothesis of class '" + p.class_name + "' dropped: " + e.what());
+    }
+  }
+}
+
+}  // namespace
+
+// base <- the hypotheses' frame, for the base at the image's stamp. The detector saw the objects
+// at the array's stamp: an array from another time (a detector slower than the camera, an array
+// matched within hypothesis_max_age) goes through the odometry then, as the robot moved between.
+Eigen::Isometry3d FrameAssembler::baseFromHypotheses(const AssembledFrame& out,
+                                                     const sensor_msgs::Image& depth,
+                                                     const std_msgs::Header& of) const {
+  if (of.stamp == depth.header.stamp)
+    return lookup_(options_.base_frame, of.frame_id, depth.header.stamp);
+  return out.frame.T_odom_base.inverse() * lookup_(options_.odom_frame, of.frame_id, of.stamp);
+}
+
 void FrameAssembler::addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth) {
   const ::ros::Time& stamp = depth.header.stamp;
-  const Eigen::Isometry3d T_base_camera =
-      lookup_(options_.base_frame, depth.header.frame_id, stamp);
-  const auto best = closestInTime(hypotheses_, stamp, options_.hypothesis_max_age);
-  if (best) {
-    const Eigen::Isometry3d T_base_frame =
-        best->header.frame_id == depth.header.frame_id
-            ? T_base_camera
-            : lookup_(options_.base_frame, best->header.frame_id, best->header.stamp);
-    for (const auto& p : best->hypotheses) {
-      try {  // one bad hypothesis costs itself, not the frame
-        if (!std::isfinite(p.score)) throw ConversionError("non-finite score");
-        out.frame.hypotheses.push_back(
-            {p.class_name, T_base_frame * toEigen(p.pose), p.score, p.up_to_box_half_turns != 0});
-      } catch (const ConversionError& e) {
-        out.warnings.push_back("hypothesis of class '" + p.class_name + "' dropped: " + e.what());
-      }
+  if (const auto best = closestInTime(hypotheses_, stamp, options_.hypothesis_max_age)) {
+    try {
+      addHypothesisArray(out, baseFromHypotheses(out, depth, best->header), *best);
+    } catch (const std::exception& e) {  // no transform for the array: it costs itself
+      out.warnings.push_back("hypothesis array in frame '" + best->header.frame_id +
+                             "' dropped: " + e.what());
     }
   }
   hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),

@@ -86,6 +86,46 @@ TEST(FrameAssembler, TakesTheClosestHypothesisArrayOnceInTheBaseFrame) {
   EXPECT_TRUE(assembler.assemble(depthAt(1.5), smallCamera()).frame.hypotheses.empty());
 }
 
+// The robot drives along x at 1 m/s (odom <- base a translation by the time); the camera is 1 m
+// above the base.
+FrameAssembler::Lookup drivingBase() {
+  const auto inOdom = [](const std::string& frame, double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    if (frame == "odom") return T;
+    T.translation().x() = t;
+    if (frame == kCamera) T = T * lift(1.0);
+    if (frame != kCamera && frame != "base_link") throw std::runtime_error("no frame " + frame);
+    return T;
+  };
+  return [inOdom](const std::string& target, const std::string& source, const ::ros::Time& t) {
+    return Eigen::Isometry3d(inOdom(target, t.toSec()).inverse() * inOdom(source, t.toSec()));
+  };
+}
+
+// A detector slower than the camera: the array the image gets was seen 20 ms earlier, when the
+// robot stood 2 cm further back. Its objects are where the detector saw them, in the base frame
+// of the image; an array in a frame without a transform costs itself, not the frame.
+TEST(FrameAssembler, AnArrayFromAnotherTimeGoesThroughTheOdometry) {
+  FrameAssembler assembler({}, drivingBase());
+  assembler.addHypotheses(hypothesesAt(0.98, 1, 0.5));
+  AssembledFrame a = assembler.assemble(depthAt(1.0), smallCamera());
+  ASSERT_EQ(a.frame.hypotheses.size(), 1u);
+  EXPECT_NEAR(a.frame.hypotheses[0].T_base_object.translation().x(), 0.48, 1e-9);
+  EXPECT_NEAR(a.frame.hypotheses[0].T_base_object.translation().z(), 1.0, 1e-9);
+  assembler.addHypotheses(hypothesesAt(1.1, 1, 0.5));  // of the image's own stamp
+  a = assembler.assemble(depthAt(1.1), smallCamera());
+  ASSERT_EQ(a.frame.hypotheses.size(), 1u);
+  EXPECT_NEAR(a.frame.hypotheses[0].T_base_object.translation().x(), 0.5, 1e-9);
+  auto elsewhere = hypothesesAt(1.19, 2, 0.5);
+  elsewhere->header.frame_id = "no_tf";
+  assembler.addHypotheses(elsewhere);
+  a = assembler.assemble(depthAt(1.2), smallCamera());
+  EXPECT_TRUE(a.frame.hypotheses.empty());
+  EXPECT_EQ(a.frame.measurements.size(), 1u);
+  ASSERT_EQ(a.warnings.size(), 1u);
+  EXPECT_NE(a.warnings[0].find("no_tf"), std::string::npos) << a.warnings[0];
+}
+
 TEST(FrameAssembler, TakesTheNewestScanNotLaterThanTheImageWithTheConfiguredModel) {
   FrameAssemblerOptions options;
   options.lidar.columns = 360, options.lidar.rings = 32, options.lidar.theta_inc = 2.0 * M_PI / 360;

@@ -6,7 +6,9 @@
 //   likewise the newest planar laser scan (sensor_msgs/LaserScan), for localization;
 // - the pose hypotheses: the one array closest in time to the image within hypothesis_max_age (a
 //   detector emits one array per image; using every array in the window would count each object
-//   several times), moved into the base frame; arrays up to the image's stamp are then dropped.
+//   several times), moved into the base frame at the image's stamp (through the odometry at the
+//   array's own stamp when it is another: the robot moved in between); arrays up to the image's
+//   stamp are then dropped.
 //   (The nodelet holds an image until its own array came: ros/hypothesis_wait.hpp.)
 // The camera's ray model comes from its CameraInfo. A cloud organized as the configured LiDAR grid
 // (options) uses that grid's rays; any other cloud, and a laser scan, one ray per return
@@ -73,6 +75,8 @@ class FrameAssembler {
   void addDepth(AssembledFrame& out, const sensor_msgs::Image& depth,
                 const sensor_msgs::CameraInfo& info);
   void addHypothesesOf(AssembledFrame& out, const sensor_msgs::Image& depth);
+  Eigen::Isometry3d baseFromHypotheses(const AssembledFrame& out, const sensor_msgs::Image& depth,
+                                       const std_msgs::Header& of) const;
   void addScan(AssembledFrame& out, const ::ros::Time& stamp);
   void addLaserScan(AssembledFrame& out, const ::ros::Time& stamp);
 
