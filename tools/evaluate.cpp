@@ -30,6 +30,9 @@
 //                                  use the same values)
 //       [--detector-params FILE]  (detector parameters with --detector; default
 //       config/detector.yaml)
+//       [--detector-delay-frames N] (with --detector: each frame's detections reach the tracker
+//                                  N frames later, as a tracker that never waits for a slower
+//                                  detector gets them; default 0)
 //       [--overlay]               (DIR/overlay/NNNNNN.jpg and the contact sheet DIR/overlay.jpg:
 //                                  tracked and given meshes' outlines on the colour images)
 //       [--surface-stride N]      (the depth residual on every N-th pixel in x and y; default 2,
@@ -56,6 +59,7 @@
 #include <sstream>
 
 #include "command_line.hpp"
+#include "scene_graph_tracker/detection/delayed_hypotheses.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/overlay.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
@@ -86,6 +90,7 @@ struct Args {
   bool relations = true;
   std::string params = "package://scene_graph_tracker/config/tracker.yaml";
   std::string detector_params = "package://scene_graph_tracker/config/detector.yaml";
+  int detector_delay_frames = 0;
   bool overlay = false;
   int surface_stride = 0;  // 0: 2, or 1 with the overlay
   bool fit_alone = false;
@@ -118,7 +123,8 @@ Args parse(int argc, char** argv) {
       "[--rgb-info-topic T] [--lidar-topic T] [--hypotheses-topic T] "
       "[--detector MODEL.yaml|default] "
       "[--scenario FILE] [--no-relations] [--params FILE] "
-      "[--detector-params FILE] [--overlay] [--surface-stride N] [--fit-alone]");
+      "[--detector-params FILE] [--detector-delay-frames N] [--overlay] [--surface-stride N] "
+      "[--fit-alone]");
   Args a;
   flags.parse(argc, argv, [&](const std::string& k, const std::function<std::string()>& value) {
     if (k == "--bag")
@@ -155,6 +161,8 @@ Args parse(int argc, char** argv) {
       a.params = value();
     else if (k == "--detector-params")
       a.detector_params = value();
+    else if (k == "--detector-delay-frames")
+      a.detector_delay_frames = std::stoi(value());
     else if (k == "--overlay")
       a.overlay = true;
     else if (k == "--fit-alone")
@@ -238,7 +246,8 @@ class Evaluation {
   std::optional<sgt::sim::Scenario> scenario_;
   sgt::ros::BagFrameReader reader_;
   std::unique_ptr<sgt::detection::PoseDetector> detector_;
-  sgt::detection::DetectionSchedule schedule_;  // when the detector runs, as in the nodelet
+  sgt::detection::DetectionSchedule schedule_;    // when the detector runs, as in the nodelet
+  sgt::detection::DelayedHypotheses delayed_{0};  // when its hypotheses reach the tracker
   std::size_t frames_not_scheduled_ = 0;
   std::unique_ptr<sgt::FramePipeline> pipeline_;
   std::set<std::string> furniture_;
@@ -274,6 +283,7 @@ Evaluation::Evaluation(const Args& args) : args_(args), reader_(args.bag, args.t
     detector_ = std::make_unique<detection::PoseDetector>(
         args.detector, *catalog_, detector_params_.decode, detector_params_.pnp);
     schedule_ = detection::DetectionSchedule(detector_params_.schedule);
+    delayed_ = detection::DelayedHypotheses(args.detector_delay_frames);
     reader_.setReadRgb(true);
   }
   setUpPipeline();
@@ -352,6 +362,8 @@ void Evaluation::onFrame(sgt::ros::BagFrame& bf) {
     if (const auto T = reader_.mapToOdom(bf.frame.stamp)) pipeline_->setMapOdom(*T);
   }
   const double detect_ms = detector_ ? detect(bf) : 0.0;
+  if (detector_)
+    bf.frame.hypotheses = delayed_.pass(std::move(bf.frame.hypotheses), bf.frame.T_odom_base);
   sgt::PipelineResult r = pipeline_->process(bf.frame);
   r.times.detect_ms = detect_ms;
   if (detector_) {
