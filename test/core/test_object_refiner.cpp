@@ -243,6 +243,31 @@ TEST(ObjectRefiner, AnObjectThatConvergedStopsBeingCast) {
   }
 }
 
+// Rays that can pair with an object pass through its box or measure a point within its pull
+// radius: a target whose pull radius is 5 mm (a well-tracked object) is cast over its box grown by
+// 5 mm, not by the 4 cm roi_margin, and ends where the wide region puts it.
+TEST(ObjectRefiner, RaysThatCannotPairAreNotCast) {
+  RefineResult r[2];
+  Bench b;
+  b.add("multimeter", 0.0, 0.0, 0.4, 10);
+  const RangeMeasurements m = b.measure(5);
+  std::mt19937 rng(5);
+  const Eigen::Isometry3d start = perturb(b.truth[0].second, 0.002, 0.5, rng);
+  for (int narrow = 0; narrow < 2; ++narrow) {
+    b.scene.setInstancePose(10, start);
+    b.scene.commit();
+    std::vector<RefineTarget> targets = b.targets;
+    if (narrow) targets[0].pull_radius = 0.005f;
+    r[narrow] = ObjectRefiner().refine(b.scene, targets, {m});
+  }
+  EXPECT_LT(r[1].rays_cast, 0.6 * r[0].rays_cast) << r[1].rays_cast << " of " << r[0].rays_cast;
+  const ObjectEstimate &wide = r[0].objects.at(0), &narrow = r[1].objects.at(0);
+  EXPECT_NEAR(narrow.quality.expected, wide.quality.expected, 0.01 * wide.quality.expected);
+  EXPECT_NEAR(narrow.quality.inliers, wide.quality.inliers, 0.01 * wide.quality.inliers);
+  EXPECT_LT((narrow.T_world_object.translation() - wide.T_world_object.translation()).norm(), 3e-4);
+  EXPECT_LT(translationError(narrow, b.truth[0].second), kMaxTransErr);
+}
+
 // An unknown box 1.5 cm beside a well-placed object: its points are unexplained and near the
 // object, so with the full pull radius they drag the object towards the box; a target whose pull
 // radius is what its filter allows (a few millimetres) stays where its own surface puts it.
@@ -401,6 +426,40 @@ TEST(ObjectRefiner, NoPointsAndAllNanDepthKeepThePose) {
   // A depth image of the wrong size is an error, not a silent loss.
   EXPECT_THROW(fromDepthImage(b.camera, b.rays, std::vector<float>(100, 1.0f), b.T_world_camera),
                std::invalid_argument);
+}
+
+// Points on three faces of a box, every other one measured 1 cm out along its face's normal:
+// unweighted, the point-to-plane fit meets the two halves in the middle; with the shifted half
+// weighing three times the other, three quarters of the way out.
+TEST(AlignPairs, WeightsMoveTheFitTowardsTheHeavierPairs) {
+  std::vector<Eigen::Vector3f> moving, fixed, normals;
+  std::vector<float> weights;
+  for (int face = 0; face < 3; ++face)
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j) {
+        Eigen::Vector3f p = Eigen::Vector3f::Zero();
+        p((face + 1) % 3) = 0.01f * i;
+        p((face + 2) % 3) = 0.01f * j;
+        const Eigen::Vector3f n = Eigen::Vector3f::Unit(face);
+        const bool shifted = (i + j) % 2 == 0;
+        moving.push_back(p);
+        fixed.push_back(shifted ? Eigen::Vector3f(p + 0.01f * n) : p);
+        normals.push_back(n);
+        weights.push_back(shifted ? 3.0f : 1.0f);
+      }
+  const AlignmentOptions options;
+  const auto fit = [&](const std::vector<float>* w) {
+    return alignPairs(moving, fixed, normals, NormalSide::kMoving, StepSolver::kLinearPointToPlane,
+                      5, 1e-9, options, w)
+        .T.translation();
+  };
+  const Eigen::Vector3d alike = fit(nullptr), weighted = fit(&weights);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(alike(a), 0.005, 0.0005) << a;
+    EXPECT_NEAR(weighted(a), 0.0075, 0.0005) << a;
+  }
+  const std::vector<float> ones(weights.size(), 1.0f);
+  EXPECT_TRUE(fit(&ones).isApprox(alike)) << "weights of one change nothing";
 }
 
 TEST(Umeyama, RecoversAKnownTransformAndFixesReflections) {

@@ -1,9 +1,11 @@
 // TileSet: regions sampled at their own strides (each ray cast once, the finer sampling wins where
-// they overlap) and phases that shift a sampled grid so that successive casts see other rays.
+// they overlap) and phases that shift a sampled grid so that successive casts see other rays; the
+// sampling of the rays near an object bounded by the rays that reach it.
 #include <gtest/gtest.h>
 
 #include <set>
 
+#include "scene_graph_tracker/registration/ray_regions.hpp"
 #include "scene_graph_tracker/scene/tile_set.hpp"
 #include "support.hpp"
 
@@ -64,6 +66,36 @@ TEST(TileSet, PhasesShiftTheGridBelowTheStride) {
     all.insert(cast.begin(), cast.end());
   }
   EXPECT_EQ(all.size(), rays.size()) << "eight phases reach every ray";
+}
+
+// A 20 cm box 0.6 m in front of a VGA camera fills a region of tens of thousands of pixels. The
+// bound counts that region's rays until the rays that reach the object are known; then those: an
+// object that shows 200 rays keeps its stride, one that shows 5,000 is sampled at 16.
+TEST(SampleRaysNearObjects, TheBoundCountsTheRaysThatReachTheObjectWhereKnown) {
+  const PinholeModel cam = PinholeModel::xtion();
+  const auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  const RangeMeasurements m = fromDepthImage(cam, rays, std::vector<float>(rays->size(), 1.0f),
+                                             Eigen::Isometry3d::Identity());
+  ObjectExtent box{
+      Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.6)),
+      Eigen::AlignedBox3f(Eigen::Vector3f::Constant(-0.1f), Eigen::Vector3f::Constant(0.1f))};
+  const auto strideFor = [&](double on_object) {
+    const std::vector<double> seen = {on_object};
+    RaySampling request;
+    request.stride = 2, request.max_rays = 300, request.on_object = &seen;
+    const ObjectSampling s = sampleRaysNearObjects(m, {box}, request);
+    EXPECT_EQ(s.weight.at(0), (s.regions.at(0).stride / 2.0f) * (s.regions.at(0).stride / 2.0f));
+    return s.regions.at(0).stride;
+  };
+  const GridRect r = raysNearObjects(m, {box}, 0.0f).at(0);
+  const double region = static_cast<double>(r.x1 - r.x0) * (r.y1 - r.y0) / 4.0;
+  ASSERT_GT(region, 16 * 300) << "the region's rays at stride 2";
+  EXPECT_GE(strideFor(-1.0), 8) << "unknown: the region's rays are bounded";
+  EXPECT_EQ(strideFor(200.0), 2);
+  EXPECT_EQ(strideFor(5000.0), 16);
+  RaySampling unbounded;
+  unbounded.stride = 2;
+  EXPECT_EQ(sampleRaysNearObjects(m, {box}, unbounded).regions.at(0).stride, 2) << "no bound";
 }
 
 }  // namespace

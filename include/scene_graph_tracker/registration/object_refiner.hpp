@@ -32,7 +32,9 @@ struct RefinerOptions {
   StepSolver solver = StepSolver::kLinearPointToPlane;
   float max_dist_first = 0.06f;  // correspondence threshold in the first round (m)
   float max_dist_last = 0.012f;  // ... in the last round
-  float roi_margin = 0.04f;      // object boxes grow by this much when picking the rays to cast
+  // Object boxes grow by this much when picking the rays to cast, or by the object's pull radius
+  // where smaller: a ray farther out neither hits the object nor measures a point that may pull it.
+  float roi_margin = 0.04f;
   // Depth images: every ray_stride-th pixel in x and y in all rounds but the last, which casts
   // every ray of the region when full_resolution_last_round is set (it gives the assignment of
   // every measurement near the objects; a pipeline that pre-segments the frame anyway can turn it
@@ -52,6 +54,11 @@ struct RefinerOptions {
   // rays are not cast in later rounds, and its quality comes from that round's pairs counted at
   // the last round's tolerance (what a cast at it would pair). 0: every object takes all rounds.
   double converged_step = 0.0;
+  // Weigh each pair's row in the fit by the rays its cast ray stands for (max_rays_per_object)
+  // over the variance of its sensor's range noise at its range (`noise`), relative to 1 mm: a
+  // LiDAR's centimetre returns do not outvote a depth camera's millimetre ones, and a sparsely
+  // sampled object's rays count for the rays they stand for. Off: every pair counts alike.
+  bool weigh_by_noise = false;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within
   // roi_margin of an object's box) pair with the closest point of the object's surface within

@@ -75,11 +75,14 @@ struct IterativeAlignment {
 // Up to `steps` steps over fixed pairs; the moving side follows the running estimate.
 // Point-to-plane uses the tangent plane of whichever side carries the normals. Stops early when
 // an update is below `tolerance`, or when the set is degenerate (too few, collinear or planar
-// points: the estimate reached so far is kept).
+// points: the estimate reached so far is kept). `weights` (one per pair, optional) weigh the
+// pairs' rows in the linear point-to-plane step; the Umeyama solvers and the degeneracy check
+// count every pair alike.
 IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
                               const std::vector<Eigen::Vector3f>& fixed,
                               const std::vector<Eigen::Vector3f>& normals, NormalSide normal_side,
                               StepSolver solver, int steps, double tolerance,
-                              const AlignmentOptions& options);
+                              const AlignmentOptions& options,
+                              const std::vector<float>* weights = nullptr);
 
 }  // namespace sgt

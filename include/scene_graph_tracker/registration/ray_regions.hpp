@@ -20,18 +20,28 @@ struct ObjectExtent {
 std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
                                       const std::vector<ObjectExtent>& objects, float margin_m);
 
-// The rays near each object (raysNearObjects) sampled at `stride`, coarsened for a depth image
-// (pinhole) object by powers of two until its region holds at most `max_rays` rays (0: no bound),
-// so that a near object costs what a far one does. weight[k] is how many rays of the `stride`
-// sampling each cast ray near object k stands for: (its stride / stride)^2. Objects whose
-// `skip` entry is set (when given) get no region.
+// How sampleRaysNearObjects picks each object's rays.
+struct RaySampling {
+  float margin_m = 0.0f;                        // each box grows by this on every side ...
+  const std::vector<float>* margins = nullptr;  // ... or, when given, by its own (per object)
+  int stride = 1;                               // every stride-th ray in x and y
+  // A depth image (pinhole) object's region is coarsened by powers of two until it holds at most
+  // this many rays (0: no bound), so that a near object costs what a far one does.
+  int max_rays = 0;
+  const std::vector<char>* skip = nullptr;  // objects whose entry is set get no region
+  // Per object, how many rays of the `stride` sampling reach it (negative: unknown): where known,
+  // that count, not the region's, is what max_rays bounds.
+  const std::vector<double>* on_object = nullptr;
+};
+
+// The rays near each object (raysNearObjects). weight[k] is how many rays of the `stride`
+// sampling each cast ray near object k stands for: (its stride / stride)^2.
 struct ObjectSampling {
   std::vector<SampledRect> regions;
   std::vector<float> weight;  // per object
 };
 ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
-                                     const std::vector<ObjectExtent>& objects, float margin_m,
-                                     int stride, int max_rays,
-                                     const std::vector<char>* skip = nullptr);
+                                     const std::vector<ObjectExtent>& objects,
+                                     const RaySampling& sampling);
 
 }  // namespace sgt

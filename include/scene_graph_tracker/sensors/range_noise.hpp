@@ -16,6 +16,11 @@ namespace sgt {
 struct RangeNoise {
   float depth_sigma_at_1m = 0.0015f;  // depth images: sigma = this * r^2 (m)
   float range_sigma = 0.01f;          // every other sensor: a constant sigma (m)
+
+  // The sigma of a measurement of `m` at range r (m).
+  float sigma(const RangeMeasurements& m, float r) const {
+    return m.isDepthImage() ? depth_sigma_at_1m * r * r : range_sigma;
+  }
 };
 
 // max(floor, per_m2 * r^2) for a measurement at range r.

@@ -291,15 +291,21 @@ Schema<T> refinementParams() {
       number<T>("refine/max_dist_last", kRefinement, PIPE(refiner.max_dist_last), 0.002, 0.2, "m",
                 kRuntime, "... shrinking to this in the last"),
       number<T>("refine/roi_margin", kRefinement, PIPE(refiner.roi_margin), 0.0, 0.5, "m", kRuntime,
-                "object boxes grow by this much when picking the rays to cast"),
+                "object boxes grow by this much (or their pull radius where smaller) when "
+                "picking the rays to cast"),
       number<T>("refine/ray_stride", kRefinement, PIPE(refiner.ray_stride), 1, 16, "", kRuntime,
                 "every ray_stride-th depth pixel in x and y"),
       number<T>("refine/max_rays_per_object", kRefinement, PIPE(refiner.max_rays_per_object), 0,
                 1000000, "", kRuntime,
-                "depth rays cast near one object per round at most: a near object is sampled "
-                "more sparsely (0: every ray_stride-th)"),
+                "depth rays reaching one object per round at most (the rays of its region until a "
+                "round has counted them): a near object is sampled more sparsely (0: every "
+                "ray_stride-th)"),
       flag<T>("refine/jitter", kRefinement, PIPE(refiner.jitter), kRuntime,
               "each round shifts the sampled ray grid, so successive rounds cast different rays"),
+      flag<T>(
+          "refine/weigh_by_noise", kRefinement, PIPE(refiner.weigh_by_noise), kRuntime,
+          "each pair counts in the fit by the rays it stands for over the variance of the noise "
+          "of its sensor at its range (off: all alike)"),
       number<T>("refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
                 kRuntime,
                 "an object whose round moves no box corner farther has converged: its rays are no "

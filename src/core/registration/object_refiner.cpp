@@ -79,12 +79,32 @@ Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::Aligned
   return out;
 }
 
+// An object's pairs of a round and each pair's weight in the fit (RefinerOptions::weigh_by_noise).
+struct FitPairs {
+  std::vector<RayPair> pairs;
+  std::vector<float> weight;
+  void add(const RayPair& p, float w) { pairs.push_back(p), weight.push_back(w); }
+};
+
+// What a pair of set `m` counts for in the fit: the rays its cast ray stands for over its noise
+// variance relative to (1 mm)^2; 1 when the options do not weigh.
+struct PairWeight {
+  const RangeMeasurements& m;
+  float rays;  // the rays of the base sampling a cast ray stands for
+  const RefinerOptions& o;
+  float operator()(const RayPair& p) const {
+    if (!o.weigh_by_noise) return 1.0f;
+    const float sigma = std::max(1e-4f, o.noise.sigma(m, m.range[p.ray]));
+    return rays * 1e-6f / (sigma * sigma);
+  }
+};
+
 // A point-to-point pair as three point-to-plane rows along orthonormal axes (the linear step sums
 // squared plane residuals, so the three rows sum to the squared distance).
-void appendPointToPoint(RayPair p, std::vector<RayPair>& out) {
+void appendPointToPoint(RayPair p, float w, FitPairs& out) {
   for (int a = 0; a < 3; ++a) {
     p.normal = Eigen::Vector3f::Unit(a);
-    out.push_back(p);
+    out.add(p, w);
   }
 }
 
@@ -92,13 +112,9 @@ void appendPointToPoint(RayPair p, std::vector<RayPair>& out) {
 // band of the sensor's noise (`widened`) count as the object's (inliers, assignment, no pulls) but
 // do not move it: a far object's band reaches its identical neighbour.
 void appendAlignmentPairs(const std::vector<RayPair>& found, bool widened, float max_dist,
-                          std::vector<RayPair>& out) {
-  if (!widened) {
-    out.insert(out.end(), found.begin(), found.end());
-    return;
-  }
+                          const PairWeight& weight, FitPairs& out) {
   for (const RayPair& p : found)
-    if ((p.model - p.measured).norm() < max_dist) out.push_back(p);
+    if (!widened || (p.model - p.measured).norm() < max_dist) out.add(p, weight(p));
 }
 
 // An object's pairs of its last round per measurement set, the rays each cast ray stands for, and
@@ -124,8 +140,9 @@ void keepWithin(LastPairs& l, const std::vector<RangeTolerance>& tolerance,
 }
 
 // Point-to-plane steps over `pairs` expressed in the frame T0 (the object's round-start pose).
-IterativeAlignment alignInFrame(const std::vector<RayPair>& pairs, const Eigen::Isometry3d& T0,
+IterativeAlignment alignInFrame(const FitPairs& fit, const Eigen::Isometry3d& T0,
                                 const RefinerOptions& o) {
+  const std::vector<RayPair>& pairs = fit.pairs;
   const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
   std::vector<Eigen::Vector3f> model, measured, normals;
   model.reserve(pairs.size()), measured.reserve(pairs.size()), normals.reserve(pairs.size());
@@ -135,7 +152,7 @@ IterativeAlignment alignInFrame(const std::vector<RayPair>& pairs, const Eigen::
     normals.push_back(T0_inv.linear() * p.normal);
   }
   return alignPairs(model, measured, normals, NormalSide::kMoving, o.solver, o.steps,
-                    o.step_tolerance, o.alignment);
+                    o.step_tolerance, o.alignment, o.weigh_by_noise ? &fit.weight : nullptr);
 }
 
 float thresholdOfRound(const RefinerOptions& o, int round) {
@@ -220,6 +237,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   for (int k = 0; k < n_obj; ++k)
     if (targets[k].pull_radius >= 0.0f)
       pull_radii[k] = std::min(options_.pull_radius, targets[k].pull_radius);
+  // Rays that can pair with an object pass through its box (ray pairs) or measure a point within
+  // its pull radius of it (pulls): the rest are not cast.
+  std::vector<float> margins(n_obj, 0.0f);
+  for (int k = 0; k < n_obj; ++k)
+    if (options_.pull_radius > 0.0f) margins[k] = std::min(options_.roi_margin, pull_radii[k]);
   std::vector<char> degenerate(n_obj, 0), done(n_obj, 0);
   std::vector<LastPairs> kept(n_obj);
   const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
@@ -227,12 +249,14 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
   for (const RangeMeasurements& m : measurements)
     last_tolerance.push_back(noiseBand(m, last_threshold, options_));
   const bool early = options_.converged_step > 0.0;
+  // Per set and object: the rays of the base sampling that reached it in the previous round.
+  std::vector<std::vector<double>> on_object(measurements.size(), std::vector<double>(n_obj, -1.0));
   for (int round = 0; round < options_.rounds; ++round) {
     const float max_dist = thresholdOfRound(options_, round);
     const bool last = round + 1 == options_.rounds;
     // 1. Correspondences from every sensor, cast from the current estimates near the objects
     // still being refined.
-    std::vector<std::vector<RayPair>> pairs(n_obj);
+    std::vector<FitPairs> pairs(n_obj);
     std::vector<LastPairs> found(n_obj);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
@@ -240,9 +264,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       RayHits& hits = *lease;
       const bool coarse = (!last || !options_.full_resolution_last_round) &&
                           std::holds_alternative<PinholeModel>(m.model);
-      const ObjectSampling sampling =
-          sampleRaysNearObjects(m, extents, options_.roi_margin, coarse ? options_.ray_stride : 1,
-                                coarse ? options_.max_rays_per_object : 0, &done);
+      RaySampling request;
+      request.margins = &margins, request.skip = &done, request.on_object = &on_object[s];
+      request.stride = coarse ? options_.ray_stride : 1;
+      request.max_rays = coarse ? options_.max_rays_per_object : 0;
+      const ObjectSampling sampling = sampleRaysNearObjects(m, extents, request);
       const TileSet tiles = TileSet::sampled(*m.rays, sampling.regions,
                                              options_.jitter ? static_cast<unsigned>(round) : 0u);
       result.rays_cast += tiles.rayCount();
@@ -252,10 +278,12 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       auto by_group = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
       for (int k = 0; k < n_obj; ++k) {
         if (done[k]) continue;
-        appendAlignmentPairs(by_group[k], options_.noise_sigmas > 0.0f, max_dist, pairs[k]);
+        appendAlignmentPairs(by_group[k], options_.noise_sigmas > 0.0f, max_dist,
+                             {m, sampling.weight[k], options_}, pairs[k]);
         found[k].pairs.push_back(std::move(by_group[k]));
         found[k].weight.push_back(sampling.weight[k]);
         found[k].expected += sampling.weight[k] * stats.expected[k];
+        on_object[s][k] = sampling.weight[k] * stats.expected[k];
       }
       if (options_.pull_radius > 0.0f) {
         const UnexplainedPairing pulling{tolerance, options_.pull_front_margin, options_.roi_margin,
@@ -263,9 +291,13 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         const auto pulls =
             collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
         const bool point_to_point = round < options_.pull_point_to_point_rounds;
-        for (int k = 0; k < n_obj; ++k)
+        for (int k = 0; k < n_obj; ++k) {
+          const PairWeight weight{m, sampling.weight[k], options_};
           for (const RayPair& p : pulls[k])
-            if (!done[k]) point_to_point ? appendPointToPoint(p, pairs[k]) : pairs[k].push_back(p);
+            if (!done[k])
+              point_to_point ? appendPointToPoint(p, weight(p), pairs[k])
+                             : pairs[k].add(p, weight(p));
+        }
       }
     }
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).

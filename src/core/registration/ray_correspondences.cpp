@@ -53,10 +53,11 @@ namespace {
 // One point-to-plane least-squares step: residual n.(p - q), Jacobian [q x n, n] when the normal
 // turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
 // are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
-// double.
+// double; each pair's row is weighted by `weights` when given.
 bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
                             const std::vector<Eigen::Vector3f>& fixed,
-                            const std::vector<Eigen::Vector3f>& normals, NormalSide side,
+                            const std::vector<Eigen::Vector3f>& normals,
+                            const std::vector<float>* weights, NormalSide side,
                             const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                             const std::array<bool, 6>& free, Eigen::Matrix3d& dR,
                             Eigen::Vector3d& dt) {
@@ -77,8 +78,9 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
       const Eigen::Vector3f& lever = side == NormalSide::kMoving ? fixed[i] : p;
       Eigen::Matrix<float, 6, 1> J;
       J << lever.cross(n), n;
-      H.noalias() += J * J.transpose();
-      g.noalias() += J * n.dot(p - fixed[i]);
+      const float w = weights ? (*weights)[i] : 1.0f;
+      H.noalias() += w * J * J.transpose();
+      g.noalias() += (w * n.dot(p - fixed[i])) * J;
     }
     out.H += H.cast<double>();
     out.g += g.cast<double>();
@@ -116,7 +118,7 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
                               const std::vector<Eigen::Vector3f>& fixed,
                               const std::vector<Eigen::Vector3f>& normals, NormalSide side,
                               StepSolver solver, int steps, double tolerance,
-                              const AlignmentOptions& options) {
+                              const AlignmentOptions& options, const std::vector<float>* weights) {
   IterativeAlignment out;
   const std::size_t n = moving.size();
   Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
@@ -151,7 +153,8 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
     Eigen::Matrix3d dRd = step.T.linear();
     Eigen::Vector3d dtd = step.T.translation();
     if (solver == StepSolver::kLinearPointToPlane &&
-        !linearPointToPlaneStep(moving, fixed, normals, side, R, t, options.free_dofs, dRd, dtd))
+        !linearPointToPlaneStep(moving, fixed, normals, weights, side, R, t, options.free_dofs, dRd,
+                                dtd))
       break;
     const Eigen::Matrix3f dR = dRd.cast<float>();
     const Eigen::Vector3f dt = dtd.cast<float>();

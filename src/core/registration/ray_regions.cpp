@@ -124,20 +124,28 @@ std::vector<GridRect> raysNearObjects(const RangeMeasurements& m,
 }
 
 ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
-                                     const std::vector<ObjectExtent>& objects, float margin_m,
-                                     int stride, int max_rays, const std::vector<char>* skip) {
+                                     const std::vector<ObjectExtent>& objects,
+                                     const RaySampling& sampling) {
   ObjectSampling out;
+  const int max_rays = sampling.max_rays;
   const bool bounded = max_rays > 0 && std::holds_alternative<PinholeModel>(m.model);
   for (std::size_t k = 0; k < objects.size(); ++k) {
-    const std::vector<GridRect> rects =
-        skip && (*skip)[k] ? std::vector<GridRect>{} : raysNearObjects(m, {objects[k]}, margin_m);
+    const float margin = sampling.margins ? (*sampling.margins)[k] : sampling.margin_m;
+    const std::vector<GridRect> rects = sampling.skip && (*sampling.skip)[k]
+                                            ? std::vector<GridRect>{}
+                                            : raysNearObjects(m, {objects[k]}, margin);
     long long area = 0;
     for (const GridRect& r : rects)
       area += static_cast<long long>(r.x1 - r.x0) * static_cast<long long>(r.y1 - r.y0);
-    int s = std::max(1, stride);
-    while (bounded && area > static_cast<long long>(max_rays) * s * s) s *= 2;
+    const int base = std::max(1, sampling.stride);
+    int s = base;
+    // What to bound: the rays that reach the object (as seen at the base stride) when known, else
+    // the region's: an object mostly hidden keeps the rays its few visible pixels give.
+    const double known = sampling.on_object ? (*sampling.on_object)[k] : -1.0;
+    const double cells = known >= 0.0 ? known * base * base : static_cast<double>(area);
+    while (bounded && cells > static_cast<double>(max_rays) * s * s) s *= 2;
     for (const GridRect& r : rects) out.regions.push_back({r, s});
-    const float f = static_cast<float>(s) / static_cast<float>(std::max(1, stride));
+    const float f = static_cast<float>(s) / static_cast<float>(base);
     out.weight.push_back(f * f);
   }
   return out;
