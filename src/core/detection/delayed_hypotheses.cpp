@@ -4,6 +4,7 @@ namespace sgt::detection {
 
 std::vector<PoseHypothesis> DelayedHypotheses::pass(std::vector<PoseHypothesis> detected,
                                                     const Eigen::Isometry3d& T_odom_base) {
+  if (frames_ <= 0) return detected;  // untouched: not even moved by an identity's rounding
   pending_.emplace_back(T_odom_base, std::move(detected));
   if (pending_.size() <= static_cast<std::size_t>(frames_)) return {};
   auto [T_odom_then, due] = std::move(pending_.front());
