@@ -54,11 +54,11 @@ struct RefinerOptions {
   // rays are not cast in later rounds, and its quality comes from that round's pairs counted at
   // the last round's tolerance (what a cast at it would pair). 0: every object takes all rounds.
   double converged_step = 0.0;
-  // Weigh each pair's row in the fit by the rays its cast ray stands for (max_rays_per_object)
-  // over the variance of its sensor's range noise at its range (`noise`), relative to 1 mm: a
-  // LiDAR's centimetre returns do not outvote a depth camera's millimetre ones, and a sparsely
-  // sampled object's rays count for the rays they stand for. Off: every pair counts alike.
-  bool weigh_by_noise = false;
+  // Weigh the pairs of each sensor by what one of its cast rays tells: the rays it stands for
+  // (max_rays_per_object) over the variance of the sensor's range noise (`noise`) at the object's
+  // range, relative to the first measurement set's. A LiDAR's centimetre returns then do not
+  // outvote a depth camera's millimetre ones; the pairs of a fit from one set all weigh 1.
+  bool weigh_by_noise = true;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within
   // roi_margin of an object's box) pair with the closest point of the object's surface within

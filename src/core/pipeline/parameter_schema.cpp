@@ -302,10 +302,9 @@ Schema<T> refinementParams() {
                 "ray_stride-th)"),
       flag<T>("refine/jitter", kRefinement, PIPE(refiner.jitter), kRuntime,
               "each round shifts the sampled ray grid, so successive rounds cast different rays"),
-      flag<T>(
-          "refine/weigh_by_noise", kRefinement, PIPE(refiner.weigh_by_noise), kRuntime,
-          "each pair counts in the fit by the rays it stands for over the variance of the noise "
-          "of its sensor at its range (off: all alike)"),
+      flag<T>("refine/weigh_by_noise", kRefinement, PIPE(refiner.weigh_by_noise), kRuntime,
+              "the pairs of each sensor count in the fit by the rays they stand for over the "
+              "variance of its noise at the range of the object (off: all alike)"),
       number<T>("refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
                 kRuntime,
                 "an object whose round moves no box corner farther has converged: its rays are no "

@@ -86,18 +86,15 @@ struct FitPairs {
   void add(const RayPair& p, float w) { pairs.push_back(p), weight.push_back(w); }
 };
 
-// What a pair of set `m` counts for in the fit: the rays its cast ray stands for over its noise
-// variance relative to (1 mm)^2; 1 when the options do not weigh.
-struct PairWeight {
-  const RangeMeasurements& m;
-  float rays;  // the rays of the base sampling a cast ray stands for
-  const RefinerOptions& o;
-  float operator()(const RayPair& p) const {
-    if (!o.weigh_by_noise) return 1.0f;
-    const float sigma = std::max(1e-4f, o.noise.sigma(m, m.range[p.ray]));
-    return rays * 1e-6f / (sigma * sigma);
-  }
-};
+// What one cast ray of `m` near object `e` tells the fit: the rays of the base sampling it stands
+// for over the variance of its sensor's noise at the object's range.
+double rayInformation(const RangeMeasurements& m, const ObjectExtent& e, float rays,
+                      const RangeNoise& noise) {
+  const Eigen::Vector3d centre = e.T_world_object * e.box.center().cast<double>();
+  const float range = static_cast<float>((centre - m.T_world_sensor.translation()).norm());
+  const double sigma = std::max(1e-4f, noise.sigma(m, range));
+  return rays / (sigma * sigma);
+}
 
 // A point-to-point pair as three point-to-plane rows along orthonormal axes (the linear step sums
 // squared plane residuals, so the three rows sum to the squared distance).
@@ -112,9 +109,9 @@ void appendPointToPoint(RayPair p, float w, FitPairs& out) {
 // band of the sensor's noise (`widened`) count as the object's (inliers, assignment, no pulls) but
 // do not move it: a far object's band reaches its identical neighbour.
 void appendAlignmentPairs(const std::vector<RayPair>& found, bool widened, float max_dist,
-                          const PairWeight& weight, FitPairs& out) {
+                          float weight, FitPairs& out) {
   for (const RayPair& p : found)
-    if (!widened || (p.model - p.measured).norm() < max_dist) out.add(p, weight(p));
+    if (!widened || (p.model - p.measured).norm() < max_dist) out.add(p, weight);
 }
 
 // An object's pairs of its last round per measurement set, the rays each cast ray stands for, and
@@ -258,6 +255,7 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     // still being refined.
     std::vector<FitPairs> pairs(n_obj);
     std::vector<LastPairs> found(n_obj);
+    std::vector<double> first_information(n_obj, 1.0);
     for (std::size_t s = 0; s < measurements.size(); ++s) {
       const RangeMeasurements& m = measurements[s];
       const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
@@ -276,10 +274,19 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       if (early) stats.expected_within = &last_tolerance[s];  // an object may stop this round
       const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
       auto by_group = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
+      // Each pair's weight: its ray's information relative to one of the first set's (a single
+      // set's pairs all weigh exactly 1).
+      std::vector<float> weight(n_obj, 1.0f);
+      for (int k = 0; k < n_obj && options_.weigh_by_noise; ++k) {
+        const double information =
+            rayInformation(m, extents[k], sampling.weight[k], options_.noise);
+        if (s == 0) first_information[k] = information;
+        weight[k] = static_cast<float>(information / first_information[k]);
+      }
       for (int k = 0; k < n_obj; ++k) {
         if (done[k]) continue;
-        appendAlignmentPairs(by_group[k], options_.noise_sigmas > 0.0f, max_dist,
-                             {m, sampling.weight[k], options_}, pairs[k]);
+        appendAlignmentPairs(by_group[k], options_.noise_sigmas > 0.0f, max_dist, weight[k],
+                             pairs[k]);
         found[k].pairs.push_back(std::move(by_group[k]));
         found[k].weight.push_back(sampling.weight[k]);
         found[k].expected += sampling.weight[k] * stats.expected[k];
@@ -291,13 +298,11 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
         const auto pulls =
             collectUnexplainedPairs(scene, m, tiles, hits, groups, extents, meshes, pulling);
         const bool point_to_point = round < options_.pull_point_to_point_rounds;
-        for (int k = 0; k < n_obj; ++k) {
-          const PairWeight weight{m, sampling.weight[k], options_};
+        for (int k = 0; k < n_obj; ++k)
           for (const RayPair& p : pulls[k])
             if (!done[k])
-              point_to_point ? appendPointToPoint(p, weight(p), pairs[k])
-                             : pairs[k].add(p, weight(p));
-        }
+              point_to_point ? appendPointToPoint(p, weight[k], pairs[k])
+                             : pairs[k].add(p, weight[k]);
       }
     }
     // No pair of the round reaches farther than this: larger updates are shortened (limitStep).
