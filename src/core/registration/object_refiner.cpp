@@ -79,7 +79,8 @@ Eigen::Isometry3d limitStep(const Eigen::Isometry3d& delta, const Eigen::Aligned
   return out;
 }
 
-// An object's pairs of a round and each pair's weight in the fit (RefinerOptions::weigh_by_noise).
+// An object's pairs of a round and each pair's weight in the fit (all 1 unless
+// RefinerOptions::weigh_by_noise).
 struct FitPairs {
   std::vector<RayPair> pairs;
   std::vector<float> weight;
@@ -149,7 +150,7 @@ IterativeAlignment alignInFrame(const FitPairs& fit, const Eigen::Isometry3d& T0
     normals.push_back(T0_inv.linear() * p.normal);
   }
   return alignPairs(model, measured, normals, NormalSide::kMoving, o.solver, o.steps,
-                    o.step_tolerance, o.alignment, o.weigh_by_noise ? &fit.weight : nullptr);
+                    o.step_tolerance, o.alignment, &fit.weight);
 }
 
 float thresholdOfRound(const RefinerOptions& o, int round) {
@@ -236,9 +237,9 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       pull_radii[k] = std::min(options_.pull_radius, targets[k].pull_radius);
   // Rays that can pair with an object pass through its box (ray pairs) or measure a point within
   // its pull radius of it (pulls): the rest are not cast.
-  std::vector<float> margins(n_obj, 0.0f);
+  std::vector<float> margins(n_obj);
   for (int k = 0; k < n_obj; ++k)
-    if (options_.pull_radius > 0.0f) margins[k] = std::min(options_.roi_margin, pull_radii[k]);
+    margins[k] = std::max(0.0f, std::min(options_.roi_margin, pull_radii[k]));
   std::vector<char> degenerate(n_obj, 0), done(n_obj, 0);
   std::vector<LastPairs> kept(n_obj);
   const float last_threshold = thresholdOfRound(options_, options_.rounds - 1);
