@@ -497,6 +497,36 @@ TEST(AlignPairs, WeightsMoveTheFitTowardsTheHeavierPairs) {
   EXPECT_TRUE(fit(&ones).isApprox(alike)) << "weights of one change nothing";
 }
 
+TEST(AlignPairs, APriorHoldsWhatThePairsLeaveFreeAndIsWeighedAgainstTheRest) {
+  // A plane at z = 0 measured 1 cm higher: its pairs fix the height, tilt nothing and leave the
+  // in-plane shift and the turn about z free.
+  std::vector<Eigen::Vector3f> moving, fixed, normals;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      const Eigen::Vector3f p(0.01f * i - 0.045f, 0.01f * j - 0.045f, 0.0f);
+      moving.push_back(p), fixed.push_back(p + Eigen::Vector3f(0, 0, 0.01f));
+      normals.push_back(Eigen::Vector3f::UnitZ());
+    }
+  AlignmentOptions options;
+  options.reject_planar = false;
+  AlignmentPrior prior;  // [rotation, translation]
+  prior.T =
+      Eigen::Translation3d(0.004, -0.003, 0.0) * Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ());
+  prior.information.diagonal() << 1e6, 1e6, 1e6, 1e6, 1e6, 100.0;  // z: as much as the 100 pairs
+  const auto fit = [&](const AlignmentPrior* p) {
+    return alignPairs(moving, fixed, normals, NormalSide::kMoving, StepSolver::kLinearPointToPlane,
+                      10, 1e-12, options, nullptr, p)
+        .T;
+  };
+  const Eigen::Isometry3d free = fit(nullptr), held = fit(&prior);
+  EXPECT_NEAR(free.translation().z(), 0.01, 1e-6);
+  EXPECT_NEAR(free.translation().head<2>().norm(), 0.0, 1e-6) << "nothing moves what is free";
+  EXPECT_NEAR(held.translation().x(), 0.004, 1e-5) << "the prior places what the pairs leave free";
+  EXPECT_NEAR(held.translation().y(), -0.003, 1e-5);
+  EXPECT_NEAR(Eigen::AngleAxisd(held.linear()).angle(), 0.1, 1e-4);
+  EXPECT_NEAR(held.translation().z(), 0.005, 1e-5) << "equal information: half way";
+}
+
 TEST(Umeyama, RecoversAKnownTransformAndFixesReflections) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.1, 0.1);

@@ -225,6 +225,7 @@ class FramePipeline {
       const std::vector<RangeMeasurements>& sets);  // RestartContest, this frame's restarts
   // Tracks whose orientation detections contest: the detection's pose against the track's.
   void settleDisputes(const std::vector<RangeMeasurements>& sets, double stamp);
+  void fuseOrDispute(Track& t, const Eigen::Isometry3d& T_detected);
   void noteDispute(Track& t, const Eigen::Isometry3d& T_detected);
   // Up to twin_tests_per_frame confirmed tracks (in turn) weigh their near twins; a track turns
   // to one the evidence has come to favour. frame_pipeline_twins.cpp.

@@ -156,6 +156,11 @@ struct PipelineOptions {
   // the filter's belief instead of being averaged with it: an object turned in a hand is where
   // the detection sees it, not half-way.
   bool restart_replaces_outliers = true;
+  // A detection associated with a track that it does not restart is a measurement of its pose
+  // (hypothesis_sigma_m, hypothesis_sigma_rad) where it lies within the filter's 99.9 % gate:
+  // the filter weighs it with the track's fits, so a far or small object whose depth barely
+  // constrains its pose stays near what the detector sees.
+  bool fuse_hypotheses = true;
   RefinerOptions orientation_refiner = orientationRefinerDefaults();
   bool run_presegmentation = true;
   bool compute_relations = true;

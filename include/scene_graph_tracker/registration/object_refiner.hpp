@@ -59,6 +59,12 @@ struct RefinerOptions {
   // range, relative to the first measurement set's. A LiDAR's centimetre returns then do not
   // outvote a depth camera's millimetre ones; the pairs of a fit from one set all weigh 1.
   bool weigh_by_noise = true;
+  // How much a target's prior (RefineTarget::prior_information) counts against its pairs, which
+  // count by the noise of the first measurement set at the object's range: 1 makes each fit the
+  // maximum a posteriori pose, 0 ignores the priors. A far or small object whose few rays are
+  // noisier than its expected pose is uncertain then stays near that pose instead of following
+  // the noise.
+  double prior_weight = 0.0;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within
   // roi_margin of an object's box) pair with the closest point of the object's surface within
@@ -120,6 +126,11 @@ struct RefineTarget {
   // pipeline gives each track the distance its filter lets it have moved, so that unexplained
   // points farther away (unknown things beside it) do not pull a well-tracked object.
   float pull_radius = -1.0f;
+  // Where the object is expected and how surely: the inverse covariance of that pose
+  // ([translation, rotation] in the world frame, rotation perturbing on the left; per m and rad).
+  // Zero: no prior (RefinerOptions::prior_weight).
+  Eigen::Isometry3d T_prior = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> prior_information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 struct ObjectEstimate {

@@ -72,17 +72,29 @@ struct IterativeAlignment {
       last;  // of the pairs at the last step that summed them (the first, for the linear step)
 };
 
+// A prior on the moving side's pose, in the frame the points are given in: the pose it is
+// expected at (moving -> fixed, as IterativeAlignment::T) and the information of that expectation
+// ([rotation, translation], the rotation perturbing on the left, in the units of the pairs'
+// weighted squared residuals). The linear point-to-plane step then minimises the pairs' residuals
+// plus the prior's: a maximum a posteriori step, which moves a pose the pairs barely constrain
+// little from where it was expected.
+struct AlignmentPrior {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
 // Up to `steps` steps over fixed pairs; the moving side follows the running estimate.
 // Point-to-plane uses the tangent plane of whichever side carries the normals. Stops early when
 // an update is below `tolerance`, or when the set is degenerate (too few, collinear or planar
 // points: the estimate reached so far is kept). `weights` (one per pair, optional) weigh the
 // pairs' rows in the linear point-to-plane step; the Umeyama solvers and the degeneracy check
-// count every pair alike.
+// count every pair alike. `prior` (optional) adds its term to the linear point-to-plane step.
 IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
                               const std::vector<Eigen::Vector3f>& fixed,
                               const std::vector<Eigen::Vector3f>& normals, NormalSide normal_side,
                               StepSolver solver, int steps, double tolerance,
                               const AlignmentOptions& options,
-                              const std::vector<float>* weights = nullptr);
+                              const std::vector<float>* weights = nullptr,
+                              const AlignmentPrior* prior = nullptr);
 
 }  // namespace sgt

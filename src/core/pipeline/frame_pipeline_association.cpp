@@ -6,6 +6,12 @@
 #include "scene_graph_tracker/tracking/assignment.hpp"
 
 namespace sgt {
+namespace {
+
+// 99.9 % of a 6-dof Gaussian lie within this squared Mahalanobis distance.
+constexpr double kGate6Dof = 22.46;
+
+}  // namespace
 
 void FramePipeline::predict(double stamp) {
   const double dt = last_stamp_ >= 0.0 ? stamp - last_stamp_ : 0.0;
@@ -89,8 +95,26 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
     if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
       restartFromDetection(t, in_map[h]);
     else
-      noteDispute(t, in_map[h]);
+      fuseOrDispute(t, in_map[h]);
   }
+}
+
+void FramePipeline::fuseOrDispute(Track& t, const Eigen::Isometry3d& T_detected) {
+  noteDispute(t, T_detected);
+  if (!options_.fuse_hypotheses || t.contested_by) return;
+  const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
+  const Symmetry* symmetry = &catalog_->get(t.out.class_name).symmetry;
+  // A child is where its parent holds it, not where its filter predicts: the detection corrects
+  // that pose, with the filter's uncertainty.
+  PoseFilter at_pose = isChild(t.out.node) ? PoseFilter(t.out.T_map_object,
+                                                        t.filter.poseCovariance(), options_.motion)
+                                           : t.filter;
+  if (at_pose.distance2(T_detected, C, symmetry) > kGate6Dof) return;
+  at_pose.update(T_detected, C, symmetry);
+  if (!isChild(t.out.node)) t.filter = at_pose;
+  t.out.T_map_object = at_pose.pose();
+  scene_.setInstancePose(t.out.node, t.out.T_map_object);
+  graph_.setWorldTransform(t.out.node, t.out.T_map_object);
 }
 
 Eigen::Isometry3d FramePipeline::nearestBoxHalfTurn(const Track& t,
@@ -148,8 +172,6 @@ void FramePipeline::restartFromDetection(Track& t, const Eigen::Isometry3d& T_ma
   if (t.life.state == TrackState::kLost) t.before_restart = t.filter;  // for the restart contest
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   const Symmetry* symmetry = &catalog_->get(t.out.class_name).symmetry;
-  // 99.9 % of a 6-dof Gaussian lie within this squared Mahalanobis distance.
-  constexpr double kGate6Dof = 22.46;
   if (options_.restart_replaces_outliers &&
       t.filter.distance2(T_map_object, C, symmetry) > kGate6Dof)
     t.filter = PoseFilter(T_map_object, C, options_.motion);

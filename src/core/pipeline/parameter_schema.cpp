@@ -184,6 +184,9 @@ Schema<T> associationParams() {
           "restart_replaces_outliers", kAssociation, PIPE(restart_replaces_outliers), kRuntime,
           "a restarting detection outside the 99.9 % gate of the track filter replaces its pose "
           "instead of being averaged with it"),
+      flag<T>("fuse_hypotheses", kAssociation, PIPE(fuse_hypotheses), kRuntime,
+              "a hypothesis associated with a track that it does not restart updates the track "
+              "filter as a measurement of its pose where it lies within the 99.9 % gate"),
       number<T>("lost_track_max_jump_m", kAssociation, PIPE(lost_track_max_jump_m), 0.0, 1.0, "m",
                 kRuntime,
                 "a lost track ignores fits farther than this from where it was lost, until a "
@@ -305,10 +308,21 @@ Schema<T> refinementParams() {
       flag<T>("refine/weigh_by_noise", kRefinement, PIPE(refiner.weigh_by_noise), kRuntime,
               "the pairs of each sensor count in the fit by the rays they stand for over the "
               "variance of its noise at the range of the object (off: all alike)"),
+      number<T>("refine/prior_weight", kRefinement, PIPE(refiner.prior_weight), 0.0, 100.0, "",
+                kRuntime,
+                "how much the predicted pose of a track counts in its fit against the rays, which "
+                "count by the noise of the sensor: 1 makes the fit the most probable pose given "
+                "both (0: off)"),
       number<T>("refine/converged_step", kRefinement, PIPE(refiner.converged_step), 0.0, 0.1, "m",
                 kRuntime,
                 "an object whose round moves no box corner farther has converged: its rays are no "
                 "longer cast (0: all rounds)"),
+  };
+}
+
+// Pulls towards unexplained points, and when a fit counts.
+Schema<T> pullParams() {
+  return {
       number<T>("refine/pull_radius", kRefinement, PIPE(refiner.pull_radius), 0.0, 0.5, "m",
                 kRuntime,
                 "unexplained measurements this close to an object pull it towards them (0: off)"),
@@ -489,7 +503,7 @@ Schema<T> relationsParams() {
 Schema<T> makeTrackerSchema() {
   Schema<T> s;
   for (Schema<T> group : {nodeParams(), associationParams(), confirmationParams(), removalParams(),
-                          filterParams(), refinementParams(), orientationParams(),
+                          filterParams(), refinementParams(), pullParams(), orientationParams(),
                           localizationParams(), presegmentationParams(), relationsParams()})
     s.insert(s.end(), group.begin(), group.end());
   return s;

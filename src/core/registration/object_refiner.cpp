@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "scene_graph_tracker/registration/ray_correspondences.hpp"
 #include "scene_graph_tracker/registration/ray_regions.hpp"
@@ -137,9 +138,25 @@ void keepWithin(LastPairs& l, const std::vector<RangeTolerance>& tolerance,
   }
 }
 
+// A target's prior in the frame T0, in the units of pairs that weigh 1 (each of which stands for
+// `information` per m^2 of residual), or nullopt.
+std::optional<AlignmentPrior> priorInFrame(const RefineTarget& target, const Eigen::Isometry3d& T0,
+                                           double information, const RefinerOptions& o) {
+  if (o.prior_weight <= 0.0 || target.prior_information.isZero() || information <= 0.0)
+    return std::nullopt;
+  // World [translation, rotation] -> frame [rotation, translation].
+  Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+  M.block<3, 3>(0, 3) = T0.linear();
+  M.block<3, 3>(3, 0) = T0.linear();
+  AlignmentPrior prior;
+  prior.T = T0.inverse() * target.T_prior;
+  prior.information = (o.prior_weight / information) * M.transpose() * target.prior_information * M;
+  return prior;
+}
+
 // Point-to-plane steps over `pairs` expressed in the frame T0 (the object's round-start pose).
 IterativeAlignment alignInFrame(const FitPairs& fit, const Eigen::Isometry3d& T0,
-                                const RefinerOptions& o) {
+                                const RefinerOptions& o, const AlignmentPrior* prior) {
   const std::vector<RayPair>& pairs = fit.pairs;
   const Eigen::Isometry3f T0_inv = T0.inverse().cast<float>();
   std::vector<Eigen::Vector3f> model, measured, normals;
@@ -150,7 +167,7 @@ IterativeAlignment alignInFrame(const FitPairs& fit, const Eigen::Isometry3d& T0
     normals.push_back(T0_inv.linear() * p.normal);
   }
   return alignPairs(model, measured, normals, NormalSide::kMoving, o.solver, o.steps,
-                    o.step_tolerance, o.alignment, &fit.weight);
+                    o.step_tolerance, o.alignment, &fit.weight, prior);
 }
 
 float thresholdOfRound(const RefinerOptions& o, int round) {
@@ -278,11 +295,12 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       // Each pair's weight: its ray's information relative to one of the first set's (a single
       // set's pairs all weigh exactly 1).
       std::vector<float> weight(n_obj, 1.0f);
-      for (int k = 0; k < n_obj && options_.weigh_by_noise; ++k) {
+      for (int k = 0; k < n_obj && (options_.weigh_by_noise || s == 0); ++k) {
         const double information =
             rayInformation(m, extents[k], sampling.weight[k], options_.noise);
         if (s == 0) first_information[k] = information;
-        weight[k] = static_cast<float>(information / first_information[k]);
+        if (options_.weigh_by_noise)
+          weight[k] = static_cast<float>(information / first_information[k]);
       }
       for (int k = 0; k < n_obj; ++k) {
         if (done[k]) continue;
@@ -313,7 +331,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
     tbb::parallel_for(0, n_obj, [&](int k) {
       if (degenerate[k] || done[k]) return;
       const Eigen::Isometry3d T0 = extents[k].T_world_object;
-      const IterativeAlignment a = alignInFrame(pairs[k], T0, options_);
+      const auto prior = priorInFrame(targets[k], T0, first_information[k], options_);
+      const IterativeAlignment a = alignInFrame(pairs[k], T0, options_, prior ? &*prior : nullptr);
       result.objects[k].quality.last_alignment = a.status;
       if (a.status == AlignmentStatus::kCollinear || a.status == AlignmentStatus::kPlanar)
         degenerate[k] = 1;

@@ -54,13 +54,26 @@ namespace {
 // turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
 // are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
 // double; each pair's row is weighted by `weights` when given.
+// The prior's term for a step x = [w, dt] applied on the left of the running estimate (R, t):
+// residual [log(R R_prior^T) + w, t - t_prior + w x t + dt], linearised.
+void addPriorTerm(const AlignmentPrior& prior, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                  Eigen::Matrix<double, 6, 6>& H, Eigen::Matrix<double, 6, 1>& g) {
+  const Eigen::AngleAxisd turn(R * prior.T.linear().transpose());
+  Eigen::Matrix<double, 6, 1> r;
+  r << turn.angle() * turn.axis(), t - prior.T.translation();
+  Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+  J.bottomLeftCorner<3, 3>() << 0.0, t.z(), -t.y(), -t.z(), 0.0, t.x(), t.y(), -t.x(), 0.0;
+  H.noalias() += J.transpose() * prior.information * J;
+  g.noalias() += J.transpose() * prior.information * r;
+}
+
 bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
                             const std::vector<Eigen::Vector3f>& fixed,
                             const std::vector<Eigen::Vector3f>& normals,
                             const std::vector<float>* weights, NormalSide side,
                             const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
-                            const std::array<bool, 6>& free, Eigen::Matrix3d& dR,
-                            Eigen::Vector3d& dt) {
+                            const std::array<bool, 6>& free, const AlignmentPrior* prior,
+                            Eigen::Matrix3d& dR, Eigen::Vector3d& dt) {
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   struct Sums {
@@ -100,6 +113,7 @@ bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
       });
   Mat6 H = sums.H;
   Vec6 g = sums.g;
+  if (prior) addPriorTerm(*prior, R.cast<double>(), t.cast<double>(), H, g);
   H.diagonal().array() += 1e-9 + 1e-6 * H.trace() / 6.0;  // keeps unobservable directions still
   for (int i = 0; i < 6; ++i)
     if (!free[i]) H.row(i).setZero(), H.col(i).setZero(), H(i, i) = 1.0, g(i) = 0.0;  // held fixed
@@ -118,7 +132,8 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
                               const std::vector<Eigen::Vector3f>& fixed,
                               const std::vector<Eigen::Vector3f>& normals, NormalSide side,
                               StepSolver solver, int steps, double tolerance,
-                              const AlignmentOptions& options, const std::vector<float>* weights) {
+                              const AlignmentOptions& options, const std::vector<float>* weights,
+                              const AlignmentPrior* prior) {
   IterativeAlignment out;
   const std::size_t n = moving.size();
   Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
@@ -153,8 +168,8 @@ IterativeAlignment alignPairs(const std::vector<Eigen::Vector3f>& moving,
     Eigen::Matrix3d dRd = step.T.linear();
     Eigen::Vector3d dtd = step.T.translation();
     if (solver == StepSolver::kLinearPointToPlane &&
-        !linearPointToPlaneStep(moving, fixed, normals, weights, side, R, t, options.free_dofs, dRd,
-                                dtd))
+        !linearPointToPlaneStep(moving, fixed, normals, weights, side, R, t, options.free_dofs,
+                                prior, dRd, dtd))
       break;
     const Eigen::Matrix3f dR = dRd.cast<float>();
     const Eigen::Vector3f dt = dtd.cast<float>();
