@@ -61,9 +61,8 @@ struct RefinerOptions {
   bool weigh_by_noise = true;
   // How much a target's prior (RefineTarget::prior_information) counts against its pairs, which
   // count by the noise of the first measurement set at the object's range: 1 makes each fit the
-  // maximum a posteriori pose, 0 ignores the priors. A far or small object whose few rays are
-  // noisier than its expected pose is uncertain then stays near that pose instead of following
-  // the noise.
+  // maximum a posteriori pose, 0 ignores the priors. A far or small object whose few noisy rays
+  // say less than its prediction then stays near the prediction instead of following the noise.
   double prior_weight = 0.0;
   // Pull pairs (unexplained_pairs.hpp) widen the basin: in every round, measurements the cast
   // leaves unexplained (more than pull_front_margin in front of the predicted surface, within

@@ -295,7 +295,8 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       // Each pair's weight: its ray's information relative to one of the first set's (a single
       // set's pairs all weigh exactly 1).
       std::vector<float> weight(n_obj, 1.0f);
-      for (int k = 0; k < n_obj && (options_.weigh_by_noise || s == 0); ++k) {
+      const bool prior_scale = s == 0 && options_.prior_weight > 0.0;  // priorInFrame's units
+      for (int k = 0; k < n_obj && (options_.weigh_by_noise || prior_scale); ++k) {
         const double information =
             rayInformation(m, extents[k], sampling.weight[k], options_.noise);
         if (s == 0) first_information[k] = information;

@@ -50,10 +50,6 @@ std::vector<std::vector<RayPair>> collectRayPairs(const RaycastScene& scene,
 
 namespace {
 
-// One point-to-plane least-squares step: residual n.(p - q), Jacobian [q x n, n] when the normal
-// turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
-// are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
-// double; each pair's row is weighted by `weights` when given.
 // The prior's term for a step x = [w, dt] applied on the left of the running estimate (R, t):
 // residual [log(R R_prior^T) + w, t - t_prior + w x t + dt], linearised.
 void addPriorTerm(const AlignmentPrior& prior, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
@@ -62,11 +58,16 @@ void addPriorTerm(const AlignmentPrior& prior, const Eigen::Matrix3d& R, const E
   Eigen::Matrix<double, 6, 1> r;
   r << turn.angle() * turn.axis(), t - prior.T.translation();
   Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
-  J.bottomLeftCorner<3, 3>() << 0.0, t.z(), -t.y(), -t.z(), 0.0, t.x(), t.y(), -t.x(), 0.0;
+  J.bottomLeftCorner<3, 3>() << 0.0, t.z(), -t.y(), -t.z(), 0.0, t.x(), t.y(), -t.x(),
+      0.0;  // -[t]x
   H.noalias() += J.transpose() * prior.information * J;
   g.noalias() += J.transpose() * prior.information * r;
 }
 
+// One point-to-plane least-squares step: residual n.(p - q), Jacobian [q x n, n] when the normal
+// turns with the moving side, [p x n, n] when it belongs to the fixed side. The normal equations
+// are summed in float over chunks of 1024 pairs (in parallel for large sets) and the chunks in
+// double; each pair's row is weighted by `weights` when given, and `prior` adds its term.
 bool linearPointToPlaneStep(const std::vector<Eigen::Vector3f>& moving,
                             const std::vector<Eigen::Vector3f>& fixed,
                             const std::vector<Eigen::Vector3f>& normals,
