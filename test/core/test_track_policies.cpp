@@ -207,22 +207,22 @@ TEST(Confirmation, FitsExplainingTooFewRaysAreNoHits) {
   EXPECT_EQ(life.state, TrackState::kTentative);
 }
 
-TEST(TentativeAbsence, AFailedFitWhereTheObjectShouldShow) {
-  EXPECT_TRUE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 100), kOptions));
-  EXPECT_FALSE(
-      TentativeAbsence::absent(fit(RefineStatus::kNotVisible, 0, 0.0, 0), kOptions));  // hidden
-  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kFalseHypothesis, 5, 0.1, 11), kOptions));
-  // A degenerate fit is absence only when its few planar inliers are all the object shows.
-  EXPECT_FALSE(TentativeAbsence::absent(fit(RefineStatus::kDegenerate, 80, 0.8, 100), kOptions));
-  EXPECT_TRUE(TentativeAbsence::absent(fit(RefineStatus::kDegenerate, 10, 0.1, 100), kOptions));
+TEST(Absence, ATentativeTracksFailedFitIsNoEvidenceOfAbsenceButRaysSeenThroughItAre) {
+  // Far in noisy depth a present object's fit explains few of its rays (a false hypothesis).
+  TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
+  e.fit.expected = 100, e.fit.inliers = 10, e.fit.inlier_ratio = 0.1;
+  EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
+  e.absence_seen = true;  // most of its rays pass through where it should be
+  EXPECT_DOUBLE_EQ(next(TrackLife{}, e, kOptions).life.absent_since, 0.1);
+  e.child = true;  // in a container: its walls hide it
+  EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
 }
 
 TEST(Removal, ATentativeTrackGoesQuicklyOnAbsenceAndWhenDetectionsStop) {
   TrackLife life;
   life.last_hypothesis = 0.0;
-  const TrackEvidence absent = noFit(0.1, RefineStatus::kFalseHypothesis);
-  TrackEvidence e = absent;
-  e.fit.expected = 100;
+  TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
+  e.absence_seen = true;
   Transition t = next(life, e, kOptions);
   EXPECT_DOUBLE_EQ(t.life.absent_since, 0.1);
   e.stamp = 0.3;

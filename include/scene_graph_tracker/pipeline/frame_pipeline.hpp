@@ -200,9 +200,10 @@ class FramePipeline {
   LifecycleOptions lifecycleOptions() const { return sgt::lifecycleOptions(options_); }
   void setTracksEnabled(bool enabled);
 
-  // Whether the measurements show track k missing at its current pose in the scene: of the rays
-  // that reach its model, enough (min_points) and most of those that would reach it without the
-  // other tracks (max_hidden_fraction_for_absence) find no surface there.
+  // Whether the measurements show track k missing at its current pose in the scene: enough rays
+  // reach its model (min_points), most of those that would reach it without the other tracks
+  // (max_hidden_fraction_for_absence), and most of them pass through where its surface should be
+  // (measured beyond it; those measured before it within absence_noise_sigmas count against).
   // frame_pipeline_visibility.cpp.
   // `agreement` (when given): the share of those rays that agree with the model, or -1 when too
   // few reach it or other tracks hide more of it.

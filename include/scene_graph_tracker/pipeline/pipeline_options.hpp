@@ -99,6 +99,12 @@ struct PipelineOptions {
   // left (which graze the occluder and miss a track only a little off) are no evidence and the
   // track coasts.
   double max_hidden_fraction_for_absence = 0.5;
+  // A ray that shows an object missing passes through where its surface should be: its
+  // measurement lies beyond it. Depth noise puts as many measurements of a present object before
+  // its surface as beyond it, so a ray measured before the surface by up to this many noise sigmas
+  // counts against absence as one beyond it counts for it. 0: only rays within the fit's last
+  // threshold count against absence.
+  double absence_noise_sigmas = 3.0;
   // A coasting track the sensors see missing where it is drops straight down by up to this onto
   // what lies below it, and stays there when they cannot see it missing there: an object let go
   // into a container vanishes below its rim before it reaches the floor. 0: off.

@@ -131,13 +131,6 @@ struct Confirmation {
   static bool confirmed(const TrackLife& life, const LifecycleOptions& o);
 };
 
-// Evidence of absence of a tentative track, from its failed refinement alone: it should show
-// points but its fit failed, unless the fit was degenerate on what it should show (a degenerate
-// fit from the few planar points left where a thing was taken from a table is absence).
-struct TentativeAbsence {
-  static bool absent(const ObjectQuality& fit, const LifecycleOptions& o);
-};
-
 // A child (in or on another track) is where its parent holds it: it keeps the narrow association
 // gate, its fits are not weighed by distance, and it gathers no evidence of absence.
 struct ChildOfContainer {
@@ -216,8 +209,7 @@ struct PresegmentationRole {
 };
 
 FitUse useOfFit(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
-// The one transition of a frame. Evidence of absence for a coasting confirmed or lost track is
-// e.absence_seen; for a tentative one it comes from the fit (TentativeAbsence).
+// The one transition of a frame. Evidence of absence for a coasting track is e.absence_seen.
 Transition next(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
 
 }  // namespace sgt

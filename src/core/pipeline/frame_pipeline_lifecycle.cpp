@@ -138,11 +138,10 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
                                         const std::vector<FitUse>& uses,
                                         const std::vector<std::size_t>& order,
                                         const std::vector<RangeMeasurements>& sets) {
-  // Evidence of absence of a coasting confirmed or lost track, at the pose it coasts at.
+  // Evidence of absence of a coasting track, at the pose it coasts at.
   std::vector<std::size_t> coasting;
   for (std::size_t k : order)
-    if (uses[k] == FitUse::kCoast && ChildOfContainer::collectsAbsence(evidence[k].child) &&
-        tracks_[k].life.state != TrackState::kTentative)
+    if (uses[k] == FitUse::kCoast && ChildOfContainer::collectsAbsence(evidence[k].child))
       coasting.push_back(k);
   if (!coasting.empty()) scene_.commit();
   for (std::size_t k : coasting) {

@@ -1,6 +1,7 @@
 // FramePipeline: how well a track is seen, for the weight of its fits and for evidence of absence.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/registration/ray_regions.hpp"
@@ -26,15 +27,18 @@ double FramePipeline::fitWeakness(const TrackedObject& o,
 namespace {
 
 // Rays of the sets near `extent` (as refinement's last round casts them) with a valid
-// measurement that hit `node`: all of them, and those whose measurement lies within
-// `threshold` of the hit (with `limited`, rays stop at the measurement plus the threshold, so a
-// ray blocked by something closer does not count).
+// measurement that hit `node`: all of them; those whose measurement lies within `threshold` of
+// the hit (agreeing); and those measured before the hit by more than the threshold and at most
+// `window` (in front). With `window`, rays stop at the measurement plus the window, so a ray
+// blocked by something closer does not count; without it they are cast to the end.
 struct RayCounts {
-  int reaching = 0, agreeing = 0;
+  int reaching = 0, agreeing = 0, in_front = 0;
+  // The rays whose measurement lies beyond the surface: they pass through where it should be.
+  int seenThrough() const { return reaching - agreeing - in_front; }
 };
 RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& extent,
                     const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro,
-                    bool limited) {
+                    const std::optional<float>& window_sigmas) {
   RayCounts c;
   for (const RangeMeasurements& m : sets) {
     const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
@@ -44,12 +48,19 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),
                                             coarse ? ro.ray_stride : 1);
     const RangeTolerance threshold = noiseBand(m, ro.max_dist_last, ro);
+    const RangeTolerance window = window_sigmas
+                                      ? RangeTolerance(m, ro.max_dist_last, ro.noise,
+                                                       std::max(*window_sigmas, ro.noise_sigmas))
+                                      : threshold;
     scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
-               limited ? CastLimit{&m.range, threshold} : CastLimit{}, kRangeAndNodeOnly);
+               window_sigmas ? CastLimit{&m.range, window} : CastLimit{}, kRangeAndNodeOnly);
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (hits.node[i] != node || !m.valid(i)) return;
       ++c.reaching;
-      c.agreeing += std::abs(hits.range[i] - m.range[i]) < threshold.at(m.range[i]);
+      const float beyond = hits.range[i] - m.range[i];  // > 0: the measurement is before it
+      const float t = threshold.at(m.range[i]);
+      c.agreeing += std::abs(beyond) < t;
+      c.in_front += beyond >= t && beyond <= window.at(m.range[i]);
     });
   }
   return c;
@@ -63,19 +74,22 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
   const NodeId node = tracks_[k].out.node;
   const ObjectExtent extent{scene_.instancePose(node), scene_.meshBox(scene_.instanceMesh(node))};
   const RefinerOptions ro = withSensorNoise(options_.refiner);
-  const RayCounts seen = countRays(scene_, node, extent, sets, ro, true);
+  const auto sigmas = std::make_optional(static_cast<float>(options_.absence_noise_sigmas));
+  const RayCounts seen = countRays(scene_, node, extent, sets, ro, sigmas);
   if (seen.reaching < ro.alignment.min_points) return false;
-  const bool missing = seen.agreeing < ro.min_inlier_ratio * seen.reaching;
+  // Most rays that reach it pass through where its surface should be.
+  const bool missing = seen.seenThrough() > (1.0 - ro.min_inlier_ratio) * seen.reaching;
   if (!missing && !agreement) return false;
   for (const Track& t : tracks_)
     if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
   scene_.commit();
-  const RayCounts alone = countRays(scene_, node, extent, sets, ro, false);
+  const RayCounts alone = countRays(scene_, node, extent, sets, ro, std::nullopt);
   for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, true);
   scene_.commit();
   const bool in_view =
       seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
-  if (agreement && in_view) *agreement = static_cast<double>(seen.agreeing) / seen.reaching;
+  if (agreement && in_view)
+    *agreement = static_cast<double>(seen.agreeing) / std::max(1, seen.reaching - seen.in_front);
   return missing && in_view;
 }
 

@@ -240,6 +240,11 @@ Schema<T> removalParams() {
                 0.0, 1.0, "", kRuntime,
                 "when other tracks hide more of the rays reaching a track, the rest are no "
                 "evidence of absence"),
+      number<T>("absence_noise_sigmas", kRemoval, PIPE(absence_noise_sigmas), 0.0, 10.0, "",
+                kRuntime,
+                "a ray measured up to this many depth noise sigmas before the surface of a track "
+                "counts against its absence, as one beyond it counts for it (0: only rays within "
+                "the last refinement threshold)"),
   };
 }
 

@@ -30,10 +30,7 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
 void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
            const LifecycleOptions& o) {
   TrackLife& life = t.life;
-  bool absent = false;
-  if (ChildOfContainer::collectsAbsence(e.child))
-    absent = before.state == TrackState::kTentative ? TentativeAbsence::absent(e.fit, o)
-                                                    : e.absence_seen;
+  bool absent = ChildOfContainer::collectsAbsence(e.child) && e.absence_seen;
   // The turn gate refused the fit but keeps the track in view: the measurements at the pose it
   // keeps support it as a taken fit's would (a track the gate keeps where an unknown thing stands
   // is contradicted as one whose fits are taken).
@@ -99,12 +96,6 @@ bool Confirmation::countsAsHit(TrackState state, double inlier_ratio, const Life
 bool Confirmation::confirmed(const TrackLife& life, const LifecycleOptions& o) {
   return life.hits >= o.confirm_hits && life.detections >= o.confirm_detections &&
          life.fit_support >= o.min_fit_support;
-}
-
-bool TentativeAbsence::absent(const ObjectQuality& fit, const LifecycleOptions& o) {
-  const bool should_show = fit.expected >= o.min_points;
-  const bool explained = fit.inlier_ratio >= o.min_inlier_ratio;
-  return should_show && (fit.status != RefineStatus::kDegenerate || !explained);
 }
 
 bool OrientationReSearch::due(const TrackLife& life, const TrackEvidence& e,
