@@ -229,9 +229,30 @@ TEST(Removal, ATentativeTrackGoesQuicklyOnAbsenceAndWhenDetectionsStop) {
   EXPECT_FALSE(next(t.life, e, kOptions).remove);
   e.stamp = 0.5;
   EXPECT_TRUE(next(t.life, e, kOptions).remove);  // remove_tentative_after_s
-  // Hidden (no evidence either way), it goes tentative_timeout_s after its last detection.
-  EXPECT_FALSE(next(life, noFit(1.0), kOptions).remove);
-  EXPECT_TRUE(next(life, noFit(1.01), kOptions).remove);
+  // In view without detections or evidence either way, it goes tentative_timeout_s after its last
+  // detection.
+  EXPECT_FALSE(next(life, noFit(1.0, RefineStatus::kFalseHypothesis), kOptions).remove);
+  EXPECT_TRUE(next(life, noFit(1.01, RefineStatus::kFalseHypothesis), kOptions).remove);
+}
+
+TEST(Removal, ATentativeTracksTimeOutOfViewDoesNotCountTowardsItsTimeout) {
+  TrackLife life;
+  life.last_hypothesis = 0.0;
+  Transition t = next(life, noFit(0.0, RefineStatus::kFalseHypothesis), kOptions);
+  double stamp = 0.0;
+  for (int frame = 0; frame < 90; ++frame) {  // 3 s out of view (no ray reaches it)
+    stamp += 1.0 / 30.0;
+    t = next(t.life, noFit(stamp), kOptions);
+    ASSERT_FALSE(t.remove) << stamp;
+  }
+  EXPECT_NEAR(t.life.unseen_s, 3.0, 1e-9);
+  // Back in view: it still has tentative_timeout_s for a detection to come.
+  t = next(t.life, noFit(stamp + 0.9, RefineStatus::kFalseHypothesis), kOptions);
+  EXPECT_FALSE(t.remove);
+  EXPECT_TRUE(next(t.life, noFit(stamp + 1.1, RefineStatus::kFalseHypothesis), kOptions).remove);
+  // Out of view for good, it goes tentative_unseen_timeout_s after its last detection.
+  EXPECT_FALSE(next(t.life, noFit(9.9), kOptions).remove);
+  EXPECT_TRUE(next(t.life, noFit(10.1), kOptions).remove);
 }
 
 TEST(Removal, AConfirmedTrackIsLostWhenUnseenAndGoesOnlyOnEvidenceOfAbsence) {

@@ -74,7 +74,11 @@ struct PipelineOptions {
   double sink_tolerance_m = 0.01;
   double remove_after_s = 1.0;  // evidence of absence for this long removes a track
   double remove_tentative_after_s = 0.3;
-  double tentative_timeout_s = 1.0;  // a tentative track without a hypothesis for this long goes
+  // A tentative track goes when it has been in view this long since its last hypothesis: out of
+  // view (its fit sees no ray reach it) no detector can confirm it. Out of view it goes only
+  // tentative_unseen_timeout_s after its last hypothesis.
+  double tentative_timeout_s = 1.0;
+  double tentative_unseen_timeout_s = 10.0;
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;  // refined pose noise
   int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
   // Depth noise grows with range squared: a fit of an object farther than this from the sensor

@@ -31,6 +31,7 @@ struct LifecycleOptions {
   double remove_after_s;
   double remove_tentative_after_s;
   double tentative_timeout_s;
+  double tentative_unseen_timeout_s;
   double lost_track_max_jump_m;
   double lost_track_resume_inlier_ratio;
   double research_below_fit_support;
@@ -53,6 +54,8 @@ struct TrackLife {
   double absent_since = -1.0;   // < 0: no evidence of absence
   double sunk_since = -1.0;     // < 0: not inside the static map
   double last_hypothesis = 0.0;
+  double unseen_s = 0.0;     // time out of view (a fit no ray reaches) since the last hypothesis
+  double last_stamp = -1.0;  // of the last frame applied (< 0: none yet)
   double last_orientation_search = -1e9;
   int orientation_disputes = 0;  // consecutive associated hypotheses turned away from the track
   int position_disputes = 0;     // consecutive associated hypotheses placed away from it
@@ -177,7 +180,9 @@ struct SunkInMap {
 };
 
 // A track goes after remove_after_s (tentative: remove_tentative_after_s) of evidence of absence
-// or of lying in the map, and a tentative one also tentative_timeout_s after its last detection.
+// or of lying in the map. A tentative one also goes when it has been in view for
+// tentative_timeout_s since its last detection (a false detection out of the sensors' reach never
+// collects evidence of absence), and, in view or not, tentative_unseen_timeout_s after it.
 struct Removal {
   static bool removes(const TrackLife& life, double stamp, const LifecycleOptions& o);
 };

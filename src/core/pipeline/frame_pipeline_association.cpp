@@ -90,7 +90,7 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
     }
     Track& t = tracks_[match[h]];
     if (hypotheses[h].up_to_box_half_turns) in_map[h] = nearestBoxHalfTurn(t, in_map[h]);
-    t.life.last_hypothesis = stamp;
+    t.life.last_hypothesis = stamp, t.life.unseen_s = 0.0;
     ++t.life.detections;
     if (DetectionAssociation::restarts(t.out.quality.status, placedByWeakFit(t)))
       restartFromDetection(t, in_map[h]);

@@ -14,6 +14,7 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   o.fit_support_weight = p.fit_support_weight, o.min_fit_support = p.min_fit_support;
   o.remove_after_s = p.remove_after_s, o.remove_tentative_after_s = p.remove_tentative_after_s;
   o.tentative_timeout_s = p.tentative_timeout_s;
+  o.tentative_unseen_timeout_s = p.tentative_unseen_timeout_s;
   o.lost_track_max_jump_m = p.lost_track_max_jump_m;
   o.lost_track_resume_inlier_ratio = p.lost_track_resume_inlier_ratio;
   o.research_below_fit_support = p.research_below_fit_support;

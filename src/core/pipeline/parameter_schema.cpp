@@ -226,7 +226,12 @@ Schema<T> removalParams() {
       number<T>("remove_tentative_after_s", kRemoval, PIPE(remove_tentative_after_s), 0.0, 30.0,
                 "s", kRuntime, "the same for a tentative track"),
       number<T>("tentative_timeout_s", kRemoval, PIPE(tentative_timeout_s), 0.0, 30.0, "s",
-                kRuntime, "a tentative track without a hypothesis for this long goes"),
+                kRuntime,
+                "a tentative track in view this long since its last hypothesis goes (time out of "
+                "view, where no ray reaches it, does not count)"),
+      number<T>("tentative_unseen_timeout_s", kRemoval, PIPE(tentative_unseen_timeout_s), 0.0,
+                600.0, "s", kRuntime,
+                "a tentative track without a hypothesis for this long goes, in view or not"),
       number<T>("max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
                 "share of a model surface deeper than sink_tolerance_m inside the static map that "
                 "removes the track "

@@ -129,9 +129,10 @@ double SunkInMap::since(double sunk_since, bool child, bool sunk, double stamp) 
 bool Removal::removes(const TrackLife& life, double stamp, const LifecycleOptions& o) {
   const bool tentative = life.state == TrackState::kTentative;
   const double limit = tentative ? o.remove_tentative_after_s : o.remove_after_s;
-  // A tentative track that detections stopped confirming goes, seen or not (a false positive
-  // out of the sensors' reach never collects evidence of absence).
-  const bool stale = tentative && stamp - life.last_hypothesis > o.tentative_timeout_s;
+  // A tentative track that detections stopped confirming while it was in view goes.
+  const double since = stamp - life.last_hypothesis;
+  const bool stale = tentative && (since - life.unseen_s > o.tentative_timeout_s ||
+                                   since > o.tentative_unseen_timeout_s);
   const bool sunk = life.sunk_since >= 0.0 && stamp - life.sunk_since >= limit;
   const bool absent = life.absent_since >= 0.0 && stamp - life.absent_since >= limit;
   return stale || sunk || absent;
@@ -175,6 +176,9 @@ Transition next(const TrackLife& life, const TrackEvidence& e, const LifecycleOp
       break;
   }
   t.life.sunk_since = SunkInMap::since(t.life.sunk_since, e.child, e.sunk, e.stamp);
+  if (life.last_stamp >= 0.0 && e.fit.status == RefineStatus::kNotVisible)
+    t.life.unseen_s += e.stamp - life.last_stamp;
+  t.life.last_stamp = e.stamp;
   t.remove = Removal::removes(t.life, e.stamp, o);
   return t;
 }
