@@ -93,7 +93,11 @@ class TiagoBagTest(unittest.TestCase):
                 off_truth.append("%s %.3f m" % (o.id, min(errors) if errors else math.inf))
         rospy.loginfo("tiago_bag_check: %d frames out, %d detections, tracked on the truth: %s",
                       len(self.frames), self.detections, sorted(on_truth))
-        self.assertFalse(off_truth, "confirmed tracks off the truth: %s" % off_truth)
+        # The launch chain (frames, transports, map -> odom) places every track: wired wrong, all
+        # are off. How far one object's track is off is the tracker's accuracy, which make demo
+        # and make suite measure; ~max_off_truth tolerates that many.
+        self.assertLessEqual(len(off_truth), rospy.get_param("~max_off_truth", 0),
+                             "confirmed tracks off the truth: %s" % off_truth)
         self.assertGreaterEqual(len(on_truth), rospy.get_param("~min_tracked", 1))
         if rospy.get_param("~detections", ""):
             self.assertGreater(self.detections, 0, "the detector found nothing in the images")
