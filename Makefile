@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel
 
-.PHONY: deps build test test-asan test-tsan install-check bench demo suite ablation real latency soak model params fuzz clean
+.PHONY: deps build test test-asan test-tsan install-check bench demo suite ablation real latency soak model photos params fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -126,6 +126,8 @@ REAL_CATALOG ?= config/real/visp_rbt.yaml
 REAL_DETECTOR ?=
 REAL_OUTPUT ?= $(BUILD)/real
 REAL_SEED ?= 1
+# The labels the detector alone is scored against (sequence_to_dataset --labels): the model's own kind
+REAL_LABELS ?= object
 real: build
 	@test -d $(REAL_SEQUENCE) || { echo "make real: no sequence at $(REAL_SEQUENCE) (REAL_SEQUENCE=DIR)"; exit 1; }
 	@mkdir -p $(REAL_OUTPUT)
@@ -136,7 +138,7 @@ real: build
 	  --odom-frame map --base-frame camera_color_optical_frame --localization external --no-relations --overlay \
 	  $(if $(REAL_DETECTOR),--detector $(REAL_DETECTOR)) $(REAL_EVALUATE_ARGS)
 	$(if $(REAL_DETECTOR),$(TOOLS)/sequence_to_dataset --sequence $(REAL_SEQUENCE) --catalog $(REAL_CATALOG) \
-	  --mesh-dir $(REAL_SEQUENCE)/models --output $(REAL_OUTPUT)/frames && \
+	  --mesh-dir $(REAL_SEQUENCE)/models --output $(REAL_OUTPUT)/frames --labels $(REAL_LABELS) && \
 	  $(TOOLS)/evaluate_detector --dataset $(REAL_OUTPUT)/frames --model $(REAL_DETECTOR) --catalog $(REAL_CATALOG) \
 	  --mesh-dir $(REAL_SEQUENCE)/models --output $(REAL_OUTPUT)/detector)
 
@@ -182,6 +184,9 @@ MODEL_CLASSES = --catalog $(MODEL_CATALOG) $(if $(MODEL_MESH_DIR),--mesh-dir $(M
 # probability that a surface is patterned, and that an image gets a camera's exposure, blur, noise, JPEG
 MODEL_TEXTURES ?= 0
 MODEL_CAMERA_EFFECTS ?= 0
+# A directory of photographs for textures and backgrounds of the train renders (render_dataset --photos);
+# make photos fills PHOTOS_DIR with a set; empty: none
+MODEL_PHOTOS ?=
 # Where the trained model goes (its .yaml beside it); another path keeps the shipped one
 MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
@@ -190,7 +195,7 @@ model: build
 	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
 	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES) \
-	  --textures $(MODEL_TEXTURES) --camera-effects $(MODEL_CAMERA_EFFECTS)
+	  --textures $(MODEL_TEXTURES) --camera-effects $(MODEL_CAMERA_EFFECTS) $(if $(MODEL_PHOTOS),--photos $(MODEL_PHOTOS))
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
 	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
@@ -198,6 +203,16 @@ model: build
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log
 	$(TOOLS)/evaluate_detector --dataset $(MODEL_DIR)/val --model $(basename $(MODEL_OUTPUT)).yaml --output $(MODEL_DIR)/eval \
 	  --write-thresholds --threshold-beta $(MODEL_THRESHOLD_BETA) $(MODEL_CLASSES)
+
+# Photographs for MODEL_PHOTOS: the sample images of Debian's opencv-doc (OpenCV's samples/data, about
+# 90 photos and test pictures), unpacked into PHOTOS_DIR without installing the package.
+PHOTOS_DIR ?= $(BUILD)/photos
+photos:
+	@rm -rf $(PHOTOS_DIR) $(PHOTOS_DIR).deb && mkdir -p $(PHOTOS_DIR) $(PHOTOS_DIR).deb
+	cd $(PHOTOS_DIR).deb && apt-get download opencv-doc && dpkg-deb -x opencv-doc_*.deb unpacked
+	cp $(PHOTOS_DIR).deb/unpacked/usr/share/doc/opencv-doc/examples/data/*.jpg \
+	  $(PHOTOS_DIR).deb/unpacked/usr/share/doc/opencv-doc/examples/data/*.png $(PHOTOS_DIR)/
+	@rm -rf $(PHOTOS_DIR).deb && echo "photos: $$(ls $(PHOTOS_DIR) | wc -l) images in $(PHOTOS_DIR)"
 
 # config/tracker.yaml, config/detector.yaml, cfg/Tracker.cfg and the README's parameter tables from
 # the parameter schema (src/core/pipeline/parameter_schema.cpp); test_parameter_schema checks them.

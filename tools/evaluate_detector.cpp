@@ -2,8 +2,10 @@
 // sequence_to_dataset from a real recording): detection precision / recall (IoU >= 0.5, same
 // class), keypoint error of matched detections (px, over keypoints labelled inside the image), PnP
 // initial pose error (translation mm, rotation degrees symmetry-aware, ADD-S mm; the rotation also
-// up to a half turn of the box, what cuboid labels can tell), the share of labelled objects whose
-// PnP pose is within 3 cm and 15 degrees, and inference time per frame (median, ms). A set with
+// up to a half turn of the box, what cuboid labels can tell, and up to the turns of its box that
+// look alike, what shape labels can tell: detection/label_kind.hpp), the share of labelled objects
+// whose PnP pose is within 3 cm and 15 degrees (also up to those turns), and inference time per
+// frame (median, ms). A set with
 // depth images (depth/) gives the detector the depth, as the nodes do. The model's
 // own per-class score_thresholds are ignored here: per class it reports precision / recall at score
 // thresholds 0.35 ... 0.8 and suggests a threshold, the one with the best F-beta (F1 unless
@@ -30,6 +32,7 @@
 #include "command_line.hpp"
 #include "scene_graph_tracker/detection/debug_drawing.hpp"
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "scene_graph_tracker/detection/label_kind.hpp"
 #include "scene_graph_tracker/detection/pose_detector.hpp"
 #include "scene_graph_tracker/evaluation/pose_metrics.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
@@ -160,7 +163,8 @@ double mean(const std::vector<double>& v) {
 struct ClassStats {
   std::size_t truths = 0, detections = 0, matched = 0, pnp_ok = 0;
   std::size_t pnp_close = 0;  // PnP within kCloseTranslation and kCloseRotationDeg of the truth
-  std::vector<double> kp_px, t_mm, r_deg, adds_mm, r_box_deg;
+  std::size_t pnp_close_shape = 0;  // the same up to the turns of its box that look alike
+  std::vector<double> kp_px, t_mm, r_deg, adds_mm, r_box_deg, r_shape_deg;
   std::vector<std::pair<float, bool>>
       scores;  // each detection's score and whether it matched a truth
 };
@@ -221,7 +225,11 @@ int main(int argc, char** argv) {
     const ObjectCatalog catalog = loadObjectCatalog(args.catalog, args.mesh_dir);
     detection::PoseDetector detector(args.model, catalog);
     detector.keypoints().clearScoreThresholds();
-    const PoseScorer score(catalog);  // ADD-S to each class's surface
+    const PoseScorer score(catalog);                 // ADD-S to each class's surface
+    std::map<std::string, Symmetry> shape_symmetry;  // what shape labels cannot tell apart
+    for (const auto& name : catalog.listed())
+      shape_symmetry[name] =
+          detection::labelSymmetry(catalog.get(name), detection::LabelKind::kShape);
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(fs::path(args.dataset) / "images"))
       if (e.path().extension() == ".png") names.push_back(e.path().stem().string());
@@ -287,6 +295,11 @@ int main(int argc, char** argv) {
                                                        (d.pnp.T_camera_object * B).linear(),
                                                        truth[best].T_camera_object.linear()));
           s.r_box_deg.push_back(r_box);
+          const auto shape = shape_symmetry.find(d.detection.class_name);
+          const double r_shape = symmetricRotationErrorDeg(
+              shape->second, d.pnp.T_camera_object.linear(), truth[best].T_camera_object.linear());
+          s.r_shape_deg.push_back(r_shape);
+          s.pnp_close_shape += e.translation <= kCloseTranslation && r_shape <= kCloseRotationDeg;
         }
       }
       if (static_cast<int>(i) < args.debug_images) {
@@ -301,9 +314,10 @@ int main(int argc, char** argv) {
     ClassStats all;
     for (const auto& [c, s] : per) {
       all.truths += s.truths, all.detections += s.detections, all.matched += s.matched,
-          all.pnp_ok += s.pnp_ok, all.pnp_close += s.pnp_close;
+          all.pnp_ok += s.pnp_ok, all.pnp_close += s.pnp_close,
+          all.pnp_close_shape += s.pnp_close_shape;
       for (auto v : {&ClassStats::kp_px, &ClassStats::t_mm, &ClassStats::r_deg,
-                     &ClassStats::adds_mm, &ClassStats::r_box_deg})
+                     &ClassStats::adds_mm, &ClassStats::r_box_deg, &ClassStats::r_shape_deg})
         (all.*v).insert((all.*v).end(), (s.*v).begin(), (s.*v).end());
     }
     const auto ratio = [](std::size_t a, std::size_t b) {
@@ -332,7 +346,12 @@ int main(int argc, char** argv) {
         << indent
         << "\"pnp_rotation_error_up_to_box_turns_deg_median\": " << num(median(s.r_box_deg))
         << ",\n"
-        << indent << "\"pnp_within_3cm_15deg_rate\": " << num(ratio(s.pnp_close, s.truths));
+        << indent
+        << "\"pnp_rotation_error_up_to_shape_turns_deg_median\": " << num(median(s.r_shape_deg))
+        << ",\n"
+        << indent << "\"pnp_within_3cm_15deg_rate\": " << num(ratio(s.pnp_close, s.truths))
+        << ", \"pnp_within_3cm_15deg_up_to_shape_turns_rate\": "
+        << num(ratio(s.pnp_close_shape, s.truths));
       return o.str();
     };
     std::map<std::string, std::vector<ScorePoint>> curves;

@@ -2,9 +2,9 @@
 // keypoints) with the simulator's ray-cast RGB renderer and domain randomisation.
 //
 //   rosrun scene_graph_tracker render_dataset --output DIR --count N [--seed S] [--max-distance M]
-//                                             [--bench-fraction F] [--labels object|cuboid]
+//                                             [--bench-fraction F] [--labels object|cuboid|shape]
 //                                             [--catalog FILE] [--mesh-dir D]
-//                                             [--textures P] [--camera-effects P]
+//                                             [--textures P] [--camera-effects P] [--photos DIR]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
@@ -13,7 +13,11 @@
 //
 // Appearance (simulation/appearance.hpp): --textures P patterns each surface with probability P,
 // --camera-effects P gives each image a camera's exposure, white balance, gamma, blur, noise and
-// JPEG with probability P; both 0 by default, which leaves the images as they were.
+// JPEG with probability P; both 0 by default, which leaves the images as they were. --photos DIR
+// (simulation/photo_appearance.hpp) wraps each coloured surface in one of DIR's photographs with
+// probability kPhotoTextureChance and puts a photograph behind the scene (in place of the building,
+// the plain walls and the void; the table, objects, distractors and people stay) in a share
+// kPhotoBackgroundChance of the images. Without it the images are as they were.
 //
 // DIR/images/000123.png   640x480 RGB
 // DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
@@ -38,10 +42,12 @@
 #include <string>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "scene_graph_tracker/detection/label_kind.hpp"
 #include "scene_graph_tracker/evaluation/keypoint_dataset.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/simulation/appearance.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
+#include "scene_graph_tracker/simulation/photo_appearance.hpp"
 #include "scene_graph_tracker/simulation/rgb_render.hpp"
 #include "scene_graph_tracker/util/progress_bar.hpp"
 
@@ -56,6 +62,7 @@ constexpr int kMinVisiblePixels = 120;
 constexpr sgt::NodeId kMapNode = 1, kTableNode = 2, kFirstWallNode = 10, kFirstObjectNode = 100,
                       kFirstDistractorNode = 200;
 constexpr double kPlanesOrigin = -200.0;  // x of the plain-walls room, far outside the building
+constexpr double kPhotoTextureChance = 0.3, kPhotoBackgroundChance = 0.5;
 
 struct Args {
   std::string output, mesh_dir;
@@ -64,9 +71,10 @@ struct Args {
   std::uint32_t seed = 1;
   double max_distance = 2.5;
   double bench_fraction = 0.0;
-  bool cuboid_labels = false;
+  sgt::detection::LabelKind labels = sgt::detection::LabelKind::kObject;
   double textures = 0.0;        // probability that a surface is patterned
   double camera_effects = 0.0;  // probability that an image gets camera effects
+  std::string photos;           // directory of photographs (empty: none)
   bool depth = false;           // also depth/: the registered depth image (noise-free)
 };
 
@@ -127,10 +135,13 @@ class DatasetRenderer {
         seed_(args.seed),
         max_distance_(args.max_distance),
         bench_fraction_(args.bench_fraction),
-        cuboid_labels_(args.cuboid_labels),
+        labels_(args.labels),
         textures_(args.textures),
         camera_effects_(args.camera_effects),
-        depth_(args.depth) {
+        depth_(args.depth),
+        photos_(args.photos.empty() ? decltype(photos_){} : sgt::sim::loadPhotos(args.photos)) {
+    if (!args.photos.empty() && photos_.empty())
+      throw std::runtime_error("no readable .jpg or .png under " + args.photos);
     const std::uint32_t seed = seed_;
     sgt::BuildingOptions b;
     b.length_x = 24.0f, b.length_y = 20.0f, b.rooms_x = 3, b.rooms_y = 2,
@@ -178,6 +189,7 @@ class DatasetRenderer {
     }
     colours_.static_map = kMapNode;
     camera_.width = 640, camera_.height = 480;
+    for (const auto& name : classes_) label_symmetry_.push_back(labelSymmetry(catalog_.get(name)));
   }
 
   void render(std::size_t index, const fs::path& dir);
@@ -196,6 +208,9 @@ class DatasetRenderer {
   void writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
                    const sgt::SimulatedScan& scan);
   void randomisePatterns(Rng& rng);
+  sgt::Symmetry labelSymmetry(const sgt::ObjectClass& oc) const;
+  void wrapInPhotos(Rng& rng);
+  void putPhotoBehind(Rng& rng, cv::Mat& bgr, const sgt::SimulatedScan& scan) const;
   sgt::sim::CameraEffects drawCameraEffects(Rng& rng) const;
 
   const sgt::ObjectCatalog& catalog_;
@@ -204,9 +219,12 @@ class DatasetRenderer {
   double max_distance_;  // camera to the objects' centre, from 0.5 m
   double bench_fraction_;
   bool bench_ = false;  // the current image is a bench scene
-  bool cuboid_labels_;
+  sgt::detection::LabelKind labels_;
+  std::vector<sgt::Symmetry>
+      label_symmetry_;  // per class: the symmetries its labels are taken up to
   double textures_, camera_effects_;
   bool depth_;
+  std::vector<std::shared_ptr<const cv::Mat>> photos_;
   sgt::Building building_;
   sgt::RaycastScene scene_;
   Library lib_;
@@ -224,6 +242,7 @@ void DatasetRenderer::clear() {
   placed_.clear(), extra_nodes_.clear();
   colours_.albedo.clear();
   colours_.patterns.clear();
+  colours_.photos.clear();
 }
 
 // Each coloured surface (objects, table, walls, distractors, people) patterned with probability
@@ -243,6 +262,49 @@ void DatasetRenderer::randomisePatterns(Rng& rng) {
     p.seed = static_cast<std::uint32_t>(rng.integer(0, 1 << 30));
     colours_.patterns[node] = p;
   }
+}
+
+// The symmetries the class's labels are taken up to (detection/label_kind.hpp), saying which turns
+// shape labels add.
+sgt::Symmetry DatasetRenderer::labelSymmetry(const sgt::ObjectClass& oc) const {
+  const sgt::Symmetry s = sgt::detection::labelSymmetry(oc, labels_);
+  if (s.discrete.size() > oc.symmetry.discrete.size())
+    std::cerr << "render_dataset: " << oc.name << " labelled up to "
+              << s.discrete.size() - oc.symmetry.discrete.size()
+              << " turns of its box that look alike\n";
+  return s;
+}
+
+// Each coloured surface wrapped in a photograph with probability kPhotoTextureChance, spanning
+// 3 cm to 1 m.
+void DatasetRenderer::wrapInPhotos(Rng& rng) {
+  std::vector<sgt::NodeId> nodes;
+  for (const auto& [node, albedo] : colours_.albedo) nodes.push_back(node);
+  std::sort(nodes.begin(), nodes.end());
+  for (const sgt::NodeId node : nodes) {
+    if (!rng.chance(kPhotoTextureChance)) continue;
+    sgt::sim::PhotoTexture t;
+    t.image = photos_[rng.integer(0, static_cast<int>(photos_.size()) - 1)];
+    t.size_m = static_cast<float>(std::exp(rng.uniform(std::log(0.03), std::log(1.0))));
+    t.offset_m = Eigen::Vector2f(rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+    colours_.photos[node] = t;
+  }
+}
+
+// The pixels of the building, the plain walls and the void replaced by a view of a photograph.
+void DatasetRenderer::putPhotoBehind(Rng& rng, cv::Mat& bgr, const sgt::SimulatedScan& scan) const {
+  const cv::Mat& photo = *photos_[rng.integer(0, static_cast<int>(photos_.size()) - 1)];
+  const cv::Mat view =
+      sgt::sim::photoView(photo, bgr.size(), rng.uniform(1.0, 3.0), rng.uniform(0.0, 1.0),
+                          rng.uniform(0.0, 1.0), rng.chance(0.5));
+  cv::Mat behind(bgr.size(), CV_8U);
+  for (int v = 0; v < bgr.rows; ++v)
+    for (int u = 0; u < bgr.cols; ++u) {
+      const sgt::NodeId n = scan.node[static_cast<std::size_t>(v) * scan.width + u];
+      behind.at<std::uint8_t>(v, u) =
+          n == sgt::kNoNode || n == kMapNode || (n >= kFirstWallNode && n < kFirstObjectNode);
+    }
+  view.copyTo(bgr, behind);
 }
 
 // Exposure, white balance and gamma of a cheap camera, half the time blur and JPEG, and noise.
@@ -313,8 +375,13 @@ void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node,
                                 const Isometry3d& T_world_object, double random_colour,
                                 double jitter) {
   scene_.addInstance(node, lib_.classes[cls], T_world_object);
-  Vector3f c = sgt::sim::classColour(classes_[cls]);
-  if (rng.chance(random_colour))
+  // The catalog's colour, else the built-in one; a class of unknown colour gets a random one,
+  // drawn after the same chance so that the scene's other draws stay as they are.
+  const std::optional<Vector3f> known = catalog_.get(classes_[cls]).colour
+                                            ? catalog_.get(classes_[cls]).colour
+                                            : sgt::sim::knownClassColour(classes_[cls]);
+  Vector3f c = known.value_or(Vector3f::Zero());
+  if (rng.chance(random_colour) || !known)
     c = rng.colour();
   else
     c = (c + Vector3f(rng.uniform(-jitter, jitter), rng.uniform(-jitter, jitter),
@@ -515,6 +582,9 @@ void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   // Appearance is drawn from a stream of its own, so that without it the scenes stay as they were.
   Rng looks{std::mt19937(static_cast<std::uint32_t>(seed_ * 31337u + index * 104729u + 11u))};
   if (textures_ > 0.0) randomisePatterns(looks);
+  // Photographs from a third stream, so that without them the images stay as they were.
+  Rng shots{std::mt19937(static_cast<std::uint32_t>(seed_ * 7907u + index * 15485863u + 29u))};
+  if (!photos_.empty()) wrapInPhotos(shots);
   const sgt::SensorRays rays = sgt::makeRays(camera_);
   const sgt::SimulatedScan scan = sgt::simulate(scene_, rays, T_world_camera);
   const std::vector<std::uint8_t> rgb = sgt::sim::renderRgb(scan, T_world_camera, colours_, style);
@@ -522,6 +592,7 @@ void DatasetRenderer::render(std::size_t index, const fs::path& dir) {
   cv::cvtColor(
       cv::Mat(camera_.height, camera_.width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data())), bgr,
       cv::COLOR_RGB2BGR);
+  if (!photos_.empty() && shots.chance(kPhotoBackgroundChance)) putPhotoBehind(shots, bgr, scan);
   if (camera_effects_ > 0.0 && looks.chance(camera_effects_))
     sgt::sim::applyCameraEffects(bgr, drawCameraEffects(looks));
   cv::imwrite((dir / "images" / (sgt::datasetFrameName(index) + ".png")).string(), bgr);
@@ -550,11 +621,9 @@ void DatasetRenderer::writeLabels(std::size_t index, const fs::path& dir,
     const auto it = vis.find(p.node);
     if (it == vis.end() || it->second.pixels < kMinVisiblePixels) continue;
     const Visible& s = it->second;
-    const sgt::ObjectClass& oc = catalog_.get(classes_[p.class_id]);
     const Isometry3d T = T_world_camera.inverse() * p.T_world_object;
-    const Isometry3d T_label = cuboid_labels_
-                                   ? sgt::detection::canonicalCuboidPose(T, oc.symmetry)
-                                   : sgt::detection::canonicalSymmetricPose(T, oc.symmetry);
+    const sgt::Symmetry& sym = label_symmetry_[p.class_id];
+    const Isometry3d T_label = sgt::detection::labelPose(T, sym, labels_);
     objects.push_back({p.class_id, classes_[p.class_id], s.pixels, s.x0, s.y0, s.x1, s.y1, T,
                        T_label, lib_.class_boxes[p.class_id]});
   }
@@ -572,7 +641,9 @@ void usage(std::ostream& os) {
         "the robot's\n"
         "  --labels    object (default): keypoints of the pose up to the object's symmetries; "
         "cuboid: up to\n"
-        "              a half turn of its box as well (detection/keypoint_labels.hpp)\n"
+        "              a half turn of its box as well (detection/keypoint_labels.hpp); shape: "
+        "up to the\n"
+        "              turns of its box that leave its surface where it was (a plain cube's 24)\n"
         "  --catalog   object catalog whose classes are rendered, in its order (default the "
         "package's\n"
         "              config/objects.yaml)\n"
@@ -582,7 +653,10 @@ void usage(std::ostream& os) {
         "                      (default 0)\n"
         "  --camera-effects P  each image given exposure, white balance, gamma, blur, noise and "
         "JPEG with\n"
-        "                      probability P (default 0)\n";
+        "                      probability P (default 0)\n"
+        "  --photos DIR        photographs (.jpg, .png under DIR) as surface textures and "
+        "backgrounds\n"
+        "                      (make photos fetches a set)\n";
 }
 
 }  // namespace
@@ -613,12 +687,16 @@ int main(int argc, char** argv) {
       args.textures = std::stod(v);
     else if (a == "--camera-effects")
       args.camera_effects = std::stod(v);
+    else if (a == "--photos")
+      args.photos = v;
     else if (a == "--depth")
       args.depth = v == "1";
     else if (a == "--labels") {
-      if (v != "object" && v != "cuboid")
-        return std::cerr << "render_dataset: --labels is object or cuboid, not '" << v << "'\n", 2;
-      args.cuboid_labels = v == "cuboid";
+      if (!sgt::detection::parseLabelKind(v))
+        return std::cerr << "render_dataset: --labels is object, cuboid or shape, not '" << v
+                         << "'\n",
+               2;
+      args.labels = *sgt::detection::parseLabelKind(v);
     } else
       return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
@@ -641,9 +719,10 @@ int main(int argc, char** argv) {
     std::ostringstream comment;
     comment << "rendered by render_dataset --count " << args.count << " --seed " << args.seed
             << " --max-distance " << args.max_distance << " --bench-fraction "
-            << args.bench_fraction << " --labels " << (args.cuboid_labels ? "cuboid" : "object")
+            << args.bench_fraction << " --labels " << sgt::detection::labelKindName(args.labels)
             << " --catalog " << args.catalog << " --textures " << args.textures
             << " --camera-effects " << args.camera_effects << " --depth " << args.depth;
+    if (!args.photos.empty()) comment << " --photos " << args.photos;
     sgt::writeDatasetYaml(dir, comment.str(), catalog.listed());
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";

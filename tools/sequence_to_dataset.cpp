@@ -5,7 +5,7 @@
 // along (depth/, millimetres), so that the PnP poses take their distance from it as in the nodes.
 //
 //   rosrun scene_graph_tracker sequence_to_dataset --sequence DIR --catalog FILE --output OUT
-//       [--mesh-dir D] [--labels object|cuboid]
+//       [--mesh-dir D] [--labels object|cuboid|shape]   (detection/label_kind.hpp)
 //
 // Class ids and boxes: SequenceLabeller (evaluation/keypoint_dataset.hpp).
 #include <cmath>
@@ -30,7 +30,7 @@ struct Args {
 Args parse(int argc, char** argv) {
   const sgt::cli::Flags flags("sequence_to_dataset",
                               "--sequence DIR --catalog FILE --output OUT [--mesh-dir D] "
-                              "[--labels object|cuboid]");
+                              "[--labels object|cuboid|shape]");
   Args a;
   flags.parse(argc, argv,
               {{"--sequence", &a.sequence},
@@ -40,7 +40,7 @@ Args parse(int argc, char** argv) {
                {"--labels", &a.labels}});
   if (a.sequence.empty() || a.catalog.empty() || a.output.empty())
     flags.fail("--sequence, --catalog and --output are required");
-  if (a.labels != "object" && a.labels != "cuboid") flags.fail("--labels is object or cuboid");
+  if (!sgt::detection::parseLabelKind(a.labels)) flags.fail("--labels is object, cuboid or shape");
   return a;
 }
 
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses", "depth"})
       fs::create_directories(dir / sub);
-    sgt::SequenceLabeller labeller(catalog, sequence, args.labels == "cuboid");
+    sgt::SequenceLabeller labeller(catalog, sequence, *sgt::detection::parseLabelKind(args.labels));
     sgt::ProgressBar bar("sequence_to_dataset", sequence.frames.size());
     for (std::size_t i = 0; i < sequence.frames.size(); ++i) {
       const auto& f = sequence.frames[i];

@@ -106,8 +106,8 @@ void writeDatasetDepth(const std::filesystem::path& dir, std::size_t index,
 }
 
 SequenceLabeller::SequenceLabeller(const ObjectCatalog& catalog, const RgbdSequence& sequence,
-                                   bool cuboid_labels, int min_pixels)
-    : catalog_(catalog), sequence_(sequence), cuboid_(cuboid_labels), min_pixels_(min_pixels) {
+                                   detection::LabelKind labels, int min_pixels)
+    : catalog_(catalog), sequence_(sequence), labels_(labels), min_pixels_(min_pixels) {
   const auto& ids = catalog.listed();
   for (const auto& name : sequence.objectNames()) {
     const auto it = std::find(ids.begin(), ids.end(), name);
@@ -115,6 +115,7 @@ SequenceLabeller::SequenceLabeller(const ObjectCatalog& catalog, const RgbdSeque
       throw std::runtime_error("the sequence's object '" + name + "' is not in the catalog");
     class_id_[name] = static_cast<int>(it - ids.begin());
     mesh_[name] = scene_.addMesh(catalog.get(name).mesh);
+    label_symmetry_[name] = detection::labelSymmetry(catalog.get(name), labels);
   }
 }
 
@@ -137,8 +138,7 @@ std::vector<DatasetObject> SequenceLabeller::label(const RgbdSequence::Frame& f)
     const ObjectClass& oc = catalog_.get(name);
     o.class_id = class_id_.at(name), o.class_name = name;
     o.T_camera_object = f.T_camera_object.at(name);
-    o.T_label = cuboid_ ? detection::canonicalCuboidPose(o.T_camera_object, oc.symmetry)
-                        : detection::canonicalSymmetricPose(o.T_camera_object, oc.symmetry);
+    o.T_label = detection::labelPose(o.T_camera_object, label_symmetry_.at(name), labels_);
     o.box = oc.box.cast<double>();
     out.push_back(o);
   }

@@ -26,16 +26,51 @@ Eigen::Vector3f staticMapColour(const Eigen::Vector3f& p, const Eigen::Vector3f&
   return Eigen::Vector3f(0.84f, 0.81f, 0.74f);  // walls, furniture sides
 }
 
+std::optional<Eigen::Vector3f> knownClassColour(const std::string& name) {
+  if (name == "multimeter") return Eigen::Vector3f(0.95f, 0.78f, 0.10f);
+  if (name == "screwdriver") return Eigen::Vector3f(0.85f, 0.12f, 0.10f);
+  if (name == "materialbox") return Eigen::Vector3f(0.15f, 0.35f, 0.80f);
+  if (name == "klt") return Eigen::Vector3f(0.30f, 0.55f, 0.75f);
+  if (name == "relay") return Eigen::Vector3f(0.10f, 0.60f, 0.25f);
+  return std::nullopt;
+}
+
 Eigen::Vector3f classColour(const std::string& name) {
-  if (name == "multimeter") return {0.95f, 0.78f, 0.10f};
-  if (name == "screwdriver") return {0.85f, 0.12f, 0.10f};
-  if (name == "materialbox") return {0.15f, 0.35f, 0.80f};
-  if (name == "klt") return {0.30f, 0.55f, 0.75f};
-  if (name == "relay") return {0.10f, 0.60f, 0.25f};
+  if (const auto known = knownClassColour(name)) return *known;
   const std::size_t h = std::hash<std::string>{}(name);
   return {0.2f + 0.6f * ((h & 0xff) / 255.0f), 0.2f + 0.6f * (((h >> 8) & 0xff) / 255.0f),
           0.2f + 0.6f * (((h >> 16) & 0xff) / 255.0f)};
 }
+
+namespace {
+
+// What one node's surface looks like, looked up once per run of pixels of the same node.
+struct NodeLook {
+  Eigen::Vector3f albedo;
+  const SurfacePattern* pattern = nullptr;
+  const PhotoTexture* photo = nullptr;
+};
+
+NodeLook lookOf(const NodeColours& colours, NodeId node) {
+  NodeLook look{Eigen::Vector3f(0.6f, 0.6f, 0.6f)};
+  const auto it = colours.albedo.find(node);
+  if (it != colours.albedo.end()) look.albedo = it->second;
+  const auto p = colours.patterns.find(node);
+  if (p != colours.patterns.end()) look.pattern = &p->second;
+  const auto f = colours.photos.find(node);
+  if (f != colours.photos.end() && f->second.image) look.photo = &f->second;
+  return look;
+}
+
+Eigen::Vector3f albedoAt(const NodeLook& look, const Eigen::Vector3f& p_world,
+                         const Eigen::Vector3f& n_world) {
+  if (look.photo) return photoColour(*look.photo, p_world, n_world);
+  if (!look.pattern) return look.albedo;
+  const float w = patternWeight(*look.pattern, p_world);
+  return (1.0f - w) * look.albedo + w * look.pattern->second;
+}
+
+}  // namespace
 
 std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan,
                                     const Eigen::Isometry3d& T_world_sensor,
@@ -44,33 +79,22 @@ std::vector<std::uint8_t> renderRgb(const SimulatedScan& scan,
   std::vector<std::uint8_t> rgb(3 * n);
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f t = T_world_sensor.translation().cast<float>();
-  const Eigen::Vector3f fallback(0.6f, 0.6f, 0.6f);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         NodeId cached_node = kNoNode;  // neighbouring pixels mostly show the same node
-        Eigen::Vector3f cached = fallback;
-        const SurfacePattern* pattern = nullptr;
+        NodeLook look{};
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           Eigen::Vector3f c = style.background;
           const NodeId node = scan.node[i];
           if (node != kNoNode) {
             const Eigen::Vector3f n_world = R * scan.normals[i];  // faces the camera
+            const Eigen::Vector3f p_world = R * scan.points[i] + t;
             Eigen::Vector3f albedo;
             if (node == colours.static_map) {
-              albedo = staticMapColour(R * scan.points[i] + t, n_world, style);
+              albedo = staticMapColour(p_world, n_world, style);
             } else {
-              if (node != cached_node) {
-                const auto it = colours.albedo.find(node);
-                cached = it != colours.albedo.end() ? it->second : fallback;
-                const auto p = colours.patterns.find(node);
-                pattern = p != colours.patterns.end() ? &p->second : nullptr;
-                cached_node = node;
-              }
-              albedo = cached;
-              if (pattern) {
-                const float w = patternWeight(*pattern, R * scan.points[i] + t);
-                albedo = (1.0f - w) * albedo + w * pattern->second;
-              }
+              if (node != cached_node) look = lookOf(colours, node), cached_node = node;
+              albedo = albedoAt(look, p_world, n_world);
             }
             const float range = scan.range[i];
             const float head =

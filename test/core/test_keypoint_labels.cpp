@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
+#include "scene_graph_tracker/detection/label_kind.hpp"
+#include "scene_graph_tracker/geometry/primitives.hpp"
 #include "support.hpp"
 
 namespace sgt::detection {
@@ -87,6 +89,37 @@ TEST(KeypointLabels, CuboidLabelsAreOneForEveryHalfTurnOfTheBox) {
       pose(0.0, 0.0, 0.0, {0.0, 0.0, 1.0});  // object z away from the camera
   EXPECT_TRUE(canonicalSymmetricPose(upside_down, Symmetry{}).isApprox(upside_down));
   EXPECT_FALSE(canonicalCuboidPose(upside_down, Symmetry{}).isApprox(upside_down));
+}
+
+ObjectClass boxClass(const Eigen::Vector3f& size) {
+  ObjectClass c;
+  c.name = "box";
+  c.mesh = std::make_shared<TriangleMesh>(makeBox(size));
+  c.box = c.mesh->boundingBox();
+  c.diameter = c.mesh->diameter();
+  return c;
+}
+
+// Shape labels: a plain cube's 24 turns look alike, so a quarter turn of it keeps its label; a
+// plain box of three different sides has its three half turns; object labels keep the pose.
+TEST(KeypointLabels, ShapeLabelsAreOneForEveryTurnThatLooksAlike) {
+  const ObjectClass cube = boxClass(Eigen::Vector3f::Constant(0.085f));
+  const Symmetry shape = labelSymmetry(cube, LabelKind::kShape);
+  EXPECT_EQ(shape.discrete.size(), 23u);
+  EXPECT_TRUE(labelSymmetry(cube, LabelKind::kObject).discrete.empty());
+  EXPECT_EQ(labelSymmetry(boxClass({0.1f, 0.2f, 0.3f}), LabelKind::kShape).discrete.size(), 3u);
+  const Eigen::Isometry3d T = pose(0.3, -0.2, 1.1, {0.1, 0.0, 0.5});
+  for (const Eigen::Isometry3d& turn : {pose(0, 0, M_PI / 2, Eigen::Vector3d::Zero()),
+                                        pose(M_PI / 2, 0, 0, Eigen::Vector3d::Zero()),
+                                        pose(0, M_PI / 2, M_PI, Eigen::Vector3d::Zero())}) {
+    EXPECT_TRUE(labelPose(T * turn, shape, LabelKind::kShape)
+                    .isApprox(labelPose(T, shape, LabelKind::kShape), 1e-9));
+    EXPECT_FALSE(labelPose(T * turn, Symmetry{}, LabelKind::kObject)
+                     .isApprox(labelPose(T, Symmetry{}, LabelKind::kObject), 1e-3));
+  }
+  EXPECT_EQ(parseLabelKind("shape"), LabelKind::kShape);
+  EXPECT_FALSE(parseLabelKind("cube").has_value());
+  EXPECT_STREQ(labelKindName(LabelKind::kCuboid), "cuboid");
 }
 
 TEST(KeypointLabels, ProjectionMarksWhatLandsInTheImage) {

@@ -94,6 +94,22 @@ TEST(ObjectCatalog, ErrorsNameTheClassAndLine) {
   EXPECT_THROW(loadObjectCatalog(test::writeFile("broken.yaml", "objects: [\n")), CatalogError);
 }
 
+// Each `bad` line in a class's entry is a CatalogError naming `key` and the class.
+void expectErrorsNaming(const std::string& key, std::initializer_list<const char*> bad_lines) {
+  const std::string mesh = "package://scene_graph_tracker/meshes/multimeter.stl";
+  for (const char* bad : bad_lines) {
+    const std::string path = test::writeFile(
+        "bad_" + key + ".yaml", "objects:\n  mm:\n    mesh: " + mesh + "\n    " + bad + "\n");
+    try {
+      loadObjectCatalog(path);
+      FAIL() << "no error for " << bad;
+    } catch (const CatalogError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("class 'mm'"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A mesh modelled in other axes than its poses refer to (a Y-up OBJ): `origin` puts it into the
 // object frame as a URDF visual's origin does, before anything uses it.
 TEST(ObjectCatalog, OriginMovesTheMeshIntoTheObjectFrame) {
@@ -119,17 +135,22 @@ TEST(ObjectCatalog, OriginMovesTheMeshIntoTheObjectFrame) {
   ASSERT_EQ(moved.mesh->vertices.size(), plain.mesh->vertices.size());
   EXPECT_TRUE(moved.mesh->vertices[7].cast<double>().isApprox(
       T * plain.mesh->vertices[7].cast<double>(), 1e-6));
-  for (const char* bad : {"origin: 5", "origin: {rpy: [1, 2]}", "origin: {xyz: [0, .nan, 0]}"}) {
-    const std::string path = test::writeFile(
-        "bad_origin.yaml", "objects:\n  mm:\n    mesh: " + mesh + "\n    " + bad + "\n");
-    try {
-      loadObjectCatalog(path);
-      FAIL() << "no error for " << bad;
-    } catch (const CatalogError& e) {
-      EXPECT_NE(std::string(e.what()).find("origin"), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("class 'mm'"), std::string::npos) << e.what();
-    }
-  }
+  expectErrorsNaming("origin",
+                     {"origin: 5", "origin: {rpy: [1, 2]}", "origin: {xyz: [0, .nan, 0]}"});
+}
+
+// A class's main colour, for training renders: read where given, absent otherwise, refused out of
+// 0..1 or not three numbers.
+TEST(ObjectCatalog, ColourIsOptionalAndChecked) {
+  const std::string mesh = "package://scene_graph_tracker/meshes/multimeter.stl";
+  const ObjectCatalog catalog = loadObjectCatalog(test::writeFile(
+      "colour.yaml", "objects:\n  a:\n    mesh: " + mesh + "\n    colour: [0.9, 0.7, 0.25]\n" +
+                         "  b:\n    mesh: " + mesh + "\n"));
+  ASSERT_TRUE(catalog.get("a").colour.has_value());
+  EXPECT_TRUE(catalog.get("a").colour->isApprox(Eigen::Vector3f(0.9f, 0.7f, 0.25f)));
+  EXPECT_FALSE(catalog.get("b").colour.has_value());
+  expectErrorsNaming("colour", {"colour: 5", "colour: [1, 0]", "colour: [0.5, 1.5, 0]",
+                                "colour: [0, .nan, 0]", "colour: [0, -0.1, 0]"});
 }
 
 // make fuzz (config): YAML type errors and unresolvable paths escaped as YAML::Exception or

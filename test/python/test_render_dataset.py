@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """render_dataset's bench scenes (--bench-fraction) against its random scenes; the classes come from
-a catalog (--catalog), in its order; appearance randomisation (--textures, --camera-effects) changes
-the pixels only; --depth writes the registered depth image.
+a catalog (--catalog), in its order; appearance randomisation (--textures, --camera-effects, --photos) changes
+the pixels only; a catalog's colour is its class's in the renders; --depth writes the registered depth image.
 
   /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
 
@@ -140,6 +140,58 @@ class BenchScenes(unittest.TestCase):
             changed.append(np.mean(np.abs(a - b).sum(2) > 30))
         self.assertGreater(min(changed), 0.05, changed)  # every image looks different
         self.assertIn("--textures 1 --camera-effects 1", open(os.path.join(out, "dataset.yaml")).read())
+
+    def test_photos_go_behind_the_scene_and_leave_the_labels(self):
+        photos = os.path.join(self.tmp.name, "photos")
+        os.makedirs(photos)
+        from PIL import Image
+        Image.new("RGB", (64, 48), (255, 0, 255)).save(os.path.join(photos, "magenta.png"))
+        out = os.path.join(self.tmp.name, "photo")
+        subprocess.run([TOOL, "--output", out, "--count", "12", "--seed", "5", "--photos", photos],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        random = os.path.join(self.tmp.name, "random")
+        self.assertEqual(digest(out, "labels"), digest(random, "labels"))
+        self.assertEqual(digest(out, "poses"), digest(random, "poses"))
+        behind = []  # share of pixels that show the photo itself, unshaded
+        for name in sorted(os.listdir(os.path.join(out, "images"))):
+            img = np.asarray(Image.open(os.path.join(out, "images", name)))
+            behind.append(np.mean(np.all(img == (255, 0, 255), axis=2)))
+        self.assertGreaterEqual(sum(b > 0.2 for b in behind), 3, behind)  # about half the images
+        self.assertIn("--photos " + photos, open(os.path.join(out, "dataset.yaml")).read())
+        r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "none"), "--count", "1", "--photos",
+                            os.path.join(self.tmp.name, "labels_only")], capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+        os.makedirs(os.path.join(self.tmp.name, "empty"))
+        r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "none"), "--count", "1", "--photos",
+                            os.path.join(self.tmp.name, "empty")], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("no readable", r.stderr)
+
+    def test_a_catalog_colour_is_the_classs_and_without_one_colours_vary(self):
+        catalog = os.path.join(self.tmp.name, "coloured.yaml")
+        with open(catalog, "w") as f:
+            f.write("objects:\n"
+                    "  red: {mesh: package://scene_graph_tracker/meshes/materialbox.stl, colour: [0.9, 0.05, 0.05]}\n"
+                    "  any: {mesh: package://scene_graph_tracker/meshes/materialbox.stl}\n")
+        out = os.path.join(self.tmp.name, "coloured")
+        subprocess.run([TOOL, "--output", out, "--count", "24", "--seed", "5", "--catalog", catalog],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        from PIL import Image
+        colours = {"red": [], "any": []}  # median colour inside each labelled object's box centre
+        for path in sorted(glob.glob(os.path.join(out, "poses", "*.json"))):
+            img = np.asarray(Image.open(path.replace("poses", "images").replace(".json", ".png")), dtype=float)
+            for row in np.loadtxt(path.replace("poses", "labels").replace(".json", ".txt"), ndmin=2):
+                if row[3] * 640 < 20 or row[4] * 480 < 20:
+                    continue
+                u, v = int(row[1] * 640), int(row[2] * 480)
+                patch = img[v - 3:v + 4, u - 3:u + 4].reshape(-1, 3)
+                colours[["red", "any"][int(row[0])]].append(np.median(patch, axis=0))
+        red = [c[0] > 2 * c[1] and c[0] > 2 * c[2] for c in colours["red"]]
+        self.assertGreater(len(red), 8)
+        self.assertGreater(np.mean(red), 0.7, colours["red"])
+        hues = np.array(colours["any"]) / (np.array(colours["any"]).sum(1, keepdims=True) + 1)
+        self.assertGreater(len(hues), 8)
+        self.assertGreater(hues.std(0).mean(), 0.05, hues)  # no one colour for a class of unknown colour
 
     def test_depth_is_registered_with_the_image_and_in_millimetres(self):
         out = os.path.join(self.tmp.name, "depth")

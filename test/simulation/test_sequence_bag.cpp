@@ -277,7 +277,7 @@ TEST_F(SequenceBag, HypothesesCarryTheSimulatedDetectorsNoiseAndSeededMisses) {
 TEST_F(SequenceBag, FramesAreLabelledFromTheirGivenPoses) {
   const RgbdSequence s = loadRgbdSequence(dir_);
   const auto cat = catalog();
-  SequenceLabeller labeller(*cat, s, false, 10);
+  SequenceLabeller labeller(*cat, s, detection::LabelKind::kObject, 10);
   const auto& f = s.frames.front();
   const std::vector<DatasetObject> objects = labeller.label(f);
   ASSERT_EQ(objects.size(), 1u);
@@ -310,7 +310,7 @@ TEST_F(SequenceBag, FramesAreLabelledFromTheirGivenPoses) {
 
   const ObjectCatalog other = loadObjectCatalog(test::writeFile(
       "other_catalog.yaml", "objects:\n  dragon:\n    mesh: " + dir_ + "/models/cube.ply\n"));
-  EXPECT_THROW(SequenceLabeller(other, s, false), std::runtime_error);
+  EXPECT_THROW(SequenceLabeller(other, s, detection::LabelKind::kObject), std::runtime_error);
 }
 
 TEST(RealSequence, TheRealSensorSequenceLoadsWhenPresent) {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_graph_tracker/detection/label_kind.hpp"
 #include "scene_graph_tracker/evaluation/rgbd_sequence.hpp"
 #include "scene_graph_tracker/scene/object_catalog.hpp"
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
@@ -59,14 +60,15 @@ void writeDatasetYaml(const std::filesystem::path& dir, const std::string& comme
 class SequenceLabeller {
  public:
   // Throws std::runtime_error when an object of the sequence is not in the catalog.
-  SequenceLabeller(const ObjectCatalog& catalog, const RgbdSequence& sequence, bool cuboid_labels,
-                   int min_pixels = 120);
+  SequenceLabeller(const ObjectCatalog& catalog, const RgbdSequence& sequence,
+                   detection::LabelKind labels, int min_pixels = 120);
   std::vector<DatasetObject> label(const RgbdSequence::Frame& frame);
 
  private:
   const ObjectCatalog& catalog_;
   const RgbdSequence& sequence_;
-  bool cuboid_;
+  detection::LabelKind labels_;
+  std::map<std::string, Symmetry> label_symmetry_;
   int min_pixels_;
   RaycastScene scene_;
   std::map<std::string, int> class_id_;

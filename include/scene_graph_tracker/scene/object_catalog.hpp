@@ -6,6 +6,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +56,10 @@ struct ObjectClass {
   Eigen::Isometry3d T_object_mesh = Eigen::Isometry3d::Identity();
   std::shared_ptr<const TriangleMesh> mesh;  // in the object frame
   Symmetry symmetry;
+  // The object's main colour (RGB 0..1, the catalog's `colour`), where it has one: renders for
+  // training draw it in that colour (render_dataset). A class without one is drawn in random
+  // colours.
+  std::optional<Eigen::Vector3f> colour;
   Eigen::AlignedBox3f box;  // of the mesh, object frame
   double diameter = 0.0;
 };
@@ -86,6 +91,7 @@ class ObjectCatalog {
 //                                          # frame, as a URDF visual's (m; rad, fixed x, y, z)
 //       symmetries_discrete: [[16 numbers, row-major 4x4], ...]      # optional
 //       symmetries_continuous: [{axis: [1, 0, 0], offset: [0, 0, 0]}]  # optional
+//       colour: [0.95, 0.78, 0.1]      # optional: main colour, RGB 0..1, for training renders
 // Symmetries are in the object frame.
 // `mesh_dir_override`, when not empty, replaces mesh_dir and makes every mesh be looked up by
 // its file name in that directory or its sub-directory named after the class (so a catalog can

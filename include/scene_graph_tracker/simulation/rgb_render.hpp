@@ -2,14 +2,17 @@
 // procedural colours for the static map (tiled floor, walls, ceiling, wooden table tops), and
 // Lambert shading with an ambient term, a light from above and a weak head light. A node may
 // carry a procedural pattern (simulation/appearance.hpp) that mixes its albedo with a second
-// colour.
+// colour, or a photograph (simulation/photo_appearance.hpp) in place of its albedo.
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "scene_graph_tracker/simulation/appearance.hpp"
+#include "scene_graph_tracker/simulation/photo_appearance.hpp"
 #include "scene_graph_tracker/simulation/sensor_simulation.hpp"
 
 namespace sgt::sim {
@@ -28,6 +31,7 @@ struct RenderStyle {
 struct NodeColours {
   std::unordered_map<NodeId, Eigen::Vector3f> albedo;   // RGB 0..1 per node
   std::unordered_map<NodeId, SurfacePattern> patterns;  // nodes whose albedo is patterned
+  std::unordered_map<NodeId, PhotoTexture> photos;      // nodes wrapped in a photo (over both)
   NodeId static_map = kNoNode;                          // coloured by staticMapColour
 };
 
@@ -35,7 +39,10 @@ struct NodeColours {
 Eigen::Vector3f staticMapColour(const Eigen::Vector3f& p_world, const Eigen::Vector3f& n_world,
                                 const RenderStyle& style);
 
-// Default albedo of a catalog class (a fixed colour for the paper's five, a hashed one otherwise).
+// The paper's five classes' colours (none for other names).
+std::optional<Eigen::Vector3f> knownClassColour(const std::string& class_name);
+
+// Default albedo of a catalog class (knownClassColour, else a colour hashed from the name).
 Eigen::Vector3f classColour(const std::string& class_name);
 
 // rgb8 image (width x height x 3, row-major) of a simulated pinhole scan from T_world_sensor.

@@ -134,6 +134,17 @@ Eigen::Isometry3d parseOrigin(const YAML::Node& o, const std::string& ctx) {
   return T;
 }
 
+std::optional<Eigen::Vector3f> parseColour(const YAML::Node& o, const std::string& ctx) {
+  const YAML::Node v = o["colour"];
+  if (!v) return std::nullopt;
+  if (!v.IsSequence() || v.size() != 3)
+    throw CatalogError(ctx + ": colour needs three numbers [r, g, b] in 0..1" + where(v));
+  const Eigen::Vector3f c(v[0].as<float>(), v[1].as<float>(), v[2].as<float>());
+  if (!c.allFinite() || c.minCoeff() < 0.0f || c.maxCoeff() > 1.0f)
+    throw CatalogError(ctx + ": colour needs three numbers [r, g, b] in 0..1" + where(v));
+  return c;
+}
+
 std::string findInOverride(const fs::path& dir, const std::string& cls,
                            const std::string& configured) {
   const std::string file = fs::path(configured).filename().string();
@@ -164,6 +175,7 @@ ObjectClass loadClass(const std::string& cls, const YAML::Node& o, const std::st
   ObjectClass obj;
   obj.name = cls;
   obj.symmetry = parseSymmetry(o, ctx);
+  obj.colour = parseColour(o, ctx);
   if (mesh_dir_override.empty()) {
     obj.mesh_path = resolveResourcePath(configured, mesh_dir);
   } else {
