@@ -207,6 +207,7 @@ class DatasetRenderer {
   void clear();
   void writeLabels(std::size_t index, const fs::path& dir, const Isometry3d& T_world_camera,
                    const sgt::SimulatedScan& scan);
+  std::vector<sgt::NodeId> colouredNodes() const;
   void randomisePatterns(Rng& rng);
   sgt::Symmetry labelSymmetry(const sgt::ObjectClass& oc) const;
   void wrapInPhotos(Rng& rng);
@@ -245,13 +246,19 @@ void DatasetRenderer::clear() {
   colours_.photos.clear();
 }
 
-// Each coloured surface (objects, table, walls, distractors, people) patterned with probability
-// textures_: checker, stripes, smooth noise or blotches in a second random colour, 3 mm to 8 cm.
-void DatasetRenderer::randomisePatterns(Rng& rng) {
+// The nodes with a colour (objects, table, walls, distractors, people), in a fixed order so that a
+// seed draws the same appearance for each.
+std::vector<sgt::NodeId> DatasetRenderer::colouredNodes() const {
   std::vector<sgt::NodeId> nodes;
   for (const auto& [node, albedo] : colours_.albedo) nodes.push_back(node);
   std::sort(nodes.begin(), nodes.end());
-  for (const sgt::NodeId node : nodes) {
+  return nodes;
+}
+
+// Each coloured surface (objects, table, walls, distractors, people) patterned with probability
+// textures_: checker, stripes, smooth noise or blotches in a second random colour, 3 mm to 8 cm.
+void DatasetRenderer::randomisePatterns(Rng& rng) {
+  for (const sgt::NodeId node : colouredNodes()) {
     if (!rng.chance(textures_)) continue;
     sgt::sim::SurfacePattern p;
     p.kind = static_cast<sgt::sim::SurfacePattern::Kind>(rng.integer(0, 3));
@@ -278,10 +285,7 @@ sgt::Symmetry DatasetRenderer::labelSymmetry(const sgt::ObjectClass& oc) const {
 // Each coloured surface wrapped in a photograph with probability kPhotoTextureChance, spanning
 // 3 cm to 1 m.
 void DatasetRenderer::wrapInPhotos(Rng& rng) {
-  std::vector<sgt::NodeId> nodes;
-  for (const auto& [node, albedo] : colours_.albedo) nodes.push_back(node);
-  std::sort(nodes.begin(), nodes.end());
-  for (const sgt::NodeId node : nodes) {
+  for (const sgt::NodeId node : colouredNodes()) {
     if (!rng.chance(kPhotoTextureChance)) continue;
     sgt::sim::PhotoTexture t;
     t.image = photos_[rng.integer(0, static_cast<int>(photos_.size()) - 1)];
@@ -377,9 +381,9 @@ void DatasetRenderer::addObject(Rng& rng, int cls, sgt::NodeId node,
   scene_.addInstance(node, lib_.classes[cls], T_world_object);
   // The catalog's colour, else the built-in one; a class of unknown colour gets a random one,
   // drawn after the same chance so that the scene's other draws stay as they are.
-  const std::optional<Vector3f> known = catalog_.get(classes_[cls]).colour
-                                            ? catalog_.get(classes_[cls]).colour
-                                            : sgt::sim::knownClassColour(classes_[cls]);
+  const std::optional<Vector3f>& declared = catalog_.get(classes_[cls]).colour;
+  const std::optional<Vector3f> known =
+      declared ? declared : sgt::sim::knownClassColour(classes_[cls]);
   Vector3f c = known.value_or(Vector3f::Zero());
   if (rng.chance(random_colour) || !known)
     c = rng.colour();
@@ -692,11 +696,12 @@ int main(int argc, char** argv) {
     else if (a == "--depth")
       args.depth = v == "1";
     else if (a == "--labels") {
-      if (!sgt::detection::parseLabelKind(v))
+      const auto kind = sgt::detection::parseLabelKind(v);
+      if (!kind)
         return std::cerr << "render_dataset: --labels is object, cuboid or shape, not '" << v
                          << "'\n",
                2;
-      args.labels = *sgt::detection::parseLabelKind(v);
+      args.labels = *kind;
     } else
       return std::cerr << "render_dataset: unknown argument '" << a << "'\n", usage(std::cerr), 2;
   }
