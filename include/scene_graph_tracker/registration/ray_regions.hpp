@@ -6,6 +6,7 @@
 
 #include "scene_graph_tracker/scene/raycast_scene.hpp"
 #include "scene_graph_tracker/sensors/range_measurements.hpp"
+#include "scene_graph_tracker/sensors/range_noise.hpp"
 
 namespace sgt {
 
@@ -43,5 +44,30 @@ struct ObjectSampling {
 ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
                                      const std::vector<ObjectExtent>& objects,
                                      const RaySampling& sampling);
+
+// Whether a ray of `m` can pair with one of the objects: its measurement is valid and either its
+// measured point lies within the object's box grown by the object's margin (it may pull the
+// object), or its cast, which ends at the measured range r plus `cast_slack.at(r)`, can reach
+// the box (it may hit the object). A ray for which neither holds pairs with nothing, so a
+// refinement that skips it gets the same pairs for fewer casts.
+class PairableRays {
+ public:
+  // `margins` per object; objects whose `skip` entry is set (may be null) are left out.
+  PairableRays(const RangeMeasurements& m, const std::vector<ObjectExtent>& objects,
+               const std::vector<float>& margins, const std::vector<char>* skip,
+               const RangeTolerance& cast_slack);
+  bool operator()(std::size_t ray) const;
+
+ private:
+  struct Target {
+    Eigen::Matrix3f R;  // sensor -> object
+    Eigen::Vector3f t;
+    Eigen::AlignedBox3f hit_box, pull_box;
+    std::vector<GridRect> rects;  // the grid cells near it (raysNearObjects)
+  };
+  const RangeMeasurements& m_;
+  RangeTolerance slack_;
+  std::vector<Target> targets_;
+};
 
 }  // namespace sgt

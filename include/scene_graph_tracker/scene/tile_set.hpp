@@ -3,6 +3,9 @@
 // s-th ray in x and y; its tiles span 4s x 4s grid cells, aligned to multiples of 4s.
 #pragma once
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cstdint>
 #include <vector>
 
@@ -48,6 +51,9 @@ class TileSet {
   // Calls f(lane, ray_index) for the cast rays of tile `b` (index into tiles()); lane 0..15.
   template <typename F>
   void forTile(const SensorRays& rays, std::size_t b, F&& f) const;
+  // Keeps only the rays for which keep(ray_index) holds; tiles left without a ray go.
+  template <typename Keep>
+  void keepRays(const SensorRays& rays, Keep&& keep);
   // Calls f(ray_index) for every ray of the covered tiles.
   template <typename F>
   void forEachRay(const SensorRays& rays, F&& f) const {
@@ -69,6 +75,27 @@ void TileSet::forTile(const SensorRays& rays, std::size_t b, F&& f) const {
     const int x = t.x0 + (k % tile_w_) * t.stride, y = t.y0 + (k / tile_w_) * t.stride;
     f(k, static_cast<std::size_t>(y) * rays.width + x);
   }
+}
+
+template <typename Keep>
+void TileSet::keepRays(const SensorRays& rays, Keep&& keep) {
+  std::vector<std::uint16_t> lanes(tiles_.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles_.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t b = r.begin(); b != r.end(); ++b)
+                        forTile(rays, b, [&](int k, std::size_t i) {
+                          if (keep(i)) lanes[b] |= static_cast<std::uint16_t>(1u << k);
+                        });
+                    });
+  std::size_t kept_tiles = 0;
+  rays_ = 0;
+  for (std::size_t b = 0; b < tiles_.size(); ++b) {
+    if (lanes[b] == 0) continue;
+    tiles_[kept_tiles] = tiles_[b];
+    tiles_[kept_tiles++].lanes = lanes[b];
+    rays_ += static_cast<std::size_t>(__builtin_popcount(lanes[b]));
+  }
+  tiles_.resize(kept_tiles);
 }
 
 }  // namespace sgt

@@ -285,12 +285,13 @@ RefineResult ObjectRefiner::refine(RaycastScene& scene, const std::vector<Refine
       request.stride = coarse ? options_.ray_stride : 1;
       request.max_rays = coarse ? options_.max_rays_per_object : 0;
       const ObjectSampling sampling = sampleRaysNearObjects(m, extents, request);
-      const TileSet tiles = TileSet::sampled(*m.rays, sampling.regions,
-                                             options_.jitter ? static_cast<unsigned>(round) : 0u);
+      TileSet tiles = TileSet::sampled(*m.rays, sampling.regions,
+                                       options_.jitter ? static_cast<unsigned>(round) : 0u);
+      const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
+      tiles.keepRays(*m.rays, PairableRays(m, extents, margins, &done, tolerance));
       result.rays_cast += tiles.rayCount();
       PairingStats stats;
       if (early) stats.expected_within = &last_tolerance[s];  // an object may stop this round
-      const RangeTolerance tolerance = noiseBand(m, max_dist, options_);
       auto by_group = collectRayPairs(scene, m, tiles, groups, tolerance, hits, &stats);
       // Each pair's weight: its ray's information relative to one of the first set's (a single
       // set's pairs all weigh exactly 1).

@@ -151,4 +151,67 @@ ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
   return out;
 }
 
+namespace {
+
+// Whether the segment o + s d, s in [0, length], meets `box` (slab test).
+bool segmentMeetsBox(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float length,
+                     const Eigen::AlignedBox3f& box) {
+  float lo = 0.0f, hi = length;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(d[a]) < 1e-12f) {
+      if (o[a] < box.min()[a] || o[a] > box.max()[a]) return false;
+      continue;
+    }
+    const float inv = 1.0f / d[a];
+    float t0 = (box.min()[a] - o[a]) * inv, t1 = (box.max()[a] - o[a]) * inv;
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0), hi = std::min(hi, t1);
+    if (lo > hi) return false;
+  }
+  return true;
+}
+
+// Slack around a mesh's box for the hit test: a hit found in float instance coordinates may lie
+// a rounding error outside the box computed from the mesh.
+constexpr float kBoxSlack = 1e-3f;
+
+}  // namespace
+
+PairableRays::PairableRays(const RangeMeasurements& m, const std::vector<ObjectExtent>& objects,
+                           const std::vector<float>& margins, const std::vector<char>* skip,
+                           const RangeTolerance& cast_slack)
+    : m_(m), slack_(cast_slack) {
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    if (skip && (*skip)[k]) continue;
+    const Eigen::Isometry3f T =
+        (objects[k].T_world_object.inverse() * m.T_world_sensor).cast<float>();
+    const Eigen::AlignedBox3f& b = objects[k].box;
+    const Eigen::Vector3f grow = Eigen::Vector3f::Constant(kBoxSlack + margins[k]);
+    targets_.push_back({T.linear(), T.translation(),
+                        Eigen::AlignedBox3f(b.min() - Eigen::Vector3f::Constant(kBoxSlack),
+                                            b.max() + Eigen::Vector3f::Constant(kBoxSlack)),
+                        Eigen::AlignedBox3f(b.min() - grow, b.max() + grow),
+                        raysNearObjects(m, {objects[k]}, margins[k])});
+  }
+}
+
+bool PairableRays::operator()(std::size_t i) const {
+  if (!m_.valid(i)) return false;
+  const SensorRays& rays = *m_.rays;
+  const float r = m_.range[i];
+  const float length = r + slack_.at(r);
+  const int x = static_cast<int>(i % rays.width), y = static_cast<int>(i / rays.width);
+  for (const Target& t : targets_) {
+    if (std::none_of(t.rects.begin(), t.rects.end(), [&](const GridRect& g) {
+          return x >= g.x0 && x < g.x1 && y >= g.y0 && y < g.y1;
+        }))
+      continue;
+    const Eigen::Vector3f o =
+        rays.origins.empty() ? t.t : Eigen::Vector3f(t.R * rays.origins[i] + t.t);
+    const Eigen::Vector3f d = t.R * rays.directions[i];
+    if (t.pull_box.contains(o + d * r) || segmentMeetsBox(o, d, length, t.hit_box)) return true;
+  }
+  return false;
+}
+
 }  // namespace sgt
