@@ -143,42 +143,6 @@ TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
   EXPECT_EQ(p.counts.behind, behind);
 }
 
-// The cast stops where no surface could explain a measurement any more; the labels are those of
-// a cast to the rays' ends, here with depth noise of 5 mm at 1 m (3 x the Xtion's) so that many
-// points lie near their tolerance (3 sigma, at least 2 cm).
-TEST_F(PresegmentationTest, LabelsAreThoseOfACastToTheEnd) {
-  const PinholeModel cam = PinholeModel::xtion();
-  auto rays = std::make_shared<SensorRays>(makeRays(cam));
-  const Eigen::Vector3d eye = base_ + Eigen::Vector3d(0, 0, 1.2);
-  const Eigen::Isometry3d T = opticalLookAt(eye, base_ + Eigen::Vector3d(2.0, -0.4, 0.4));
-  const SimulatedScan s = simulate(scene_, *rays, T);
-  RangeMeasurements m = fromDepthImage(cam, rays, depthImage(s, *rays), T);
-  addDepthNoise(m, 0.005, 9);
-  for (const NodeId d : distractors_) scene_.setInstanceEnabled(d, false);
-  scene_.commit();
-  PresegmentOptions o;
-  o.noise.depth_sigma_at_1m = 0.005f;
-  const Presegmentation p = presegment(scene_, m, o);
-  RayHits full;
-  scene_.cast(*rays, T, full);
-  const RangeTolerance tolerance(m, o.min_tolerance, o.noise, o.sigma_factor);
-  std::size_t near_edge = 0;
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    if (!m.valid(i)) continue;
-    PointLabel expected = PointLabel::kUnknown;
-    if (full.hit(i)) {
-      const float d = m.range[i] - full.range[i], tol = tolerance.at(full.range[i]);
-      near_edge += std::abs(std::abs(d) - tol) < 0.5f * tol;
-      if (d > tol)
-        expected = PointLabel::kBehind;
-      else if (d >= -tol)
-        expected = full.node[i] == kMap ? PointLabel::kStaticMap : PointLabel::kObject;
-    }
-    ASSERT_EQ(p.label[i], expected) << "ray " << i;
-  }
-  EXPECT_GT(near_edge, 1000u) << "points near their tolerance";
-}
-
 TEST(Presegmentation, InvalidAndEmptyInput) {
   RaycastScene scene;
   scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), kMap);

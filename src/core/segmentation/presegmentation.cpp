@@ -31,17 +31,10 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   if (n == 0) return out;
   const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
   RayHits& hits = *lease;
-  const RangeTolerance tolerance(m, options.min_tolerance, options.noise, options.sigma_factor);
-  // Every ray, so no stale hit is read; only what was hit where, and only up to where a surface
-  // can still explain the measurement: a surface at p beyond r + 2 floor and r + 3 per_m2 r^2
-  // lies farther than its own tolerance behind the point at r, so the point counts as unknown
-  // with it or without it. That holds below r = 1 / (4 per_m2); a sensor that reaches farther
-  // casts to the end.
-  const bool bounded = m.rays->range_max * 4.0f * tolerance.per_m2 < 1.0f;
-  const CastLimit limit{bounded ? &m.range : nullptr,
-                        RangeTolerance(2.0f * tolerance.floor + 1e-4f, 3.0f * tolerance.per_m2)};
-  scene.cast(*m.rays, m.T_world_sensor, hits, nullptr, limit, kRangeAndNodeOnly);
+  // Every ray, so no stale hit is read; only what was hit where.
+  scene.cast(*m.rays, m.T_world_sensor, hits, nullptr, {}, kRangeAndNodeOnly);
   const NodeId map = scene.staticMapNode();
+  const RangeTolerance tolerance(m, options.min_tolerance, options.noise, options.sigma_factor);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       if (!m.valid(i)) continue;
