@@ -383,7 +383,7 @@ double Evaluation::detect(sgt::ros::BagFrame& bf) {
     ++frames_without_rgb_;
     return 0.0;
   }
-  if (!schedule_.due(bf.frame.stamp)) {
+  if (!schedule_.due(bf.frame.stamp, bf.rgb->rgb)) {
     ++frames_not_scheduled_;
     return 0.0;
   }

@@ -52,6 +52,7 @@ void DetectorNodelet::onInit() {
                decode.score_threshold, p.inference.backend.c_str(), p.inference.target.c_str());
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   schedule_ = detection::DetectionSchedule(p.schedule);
+  new_view_share_ = p.schedule.new_view_share;
   tracks_sub_ = nh.subscribe("tracked_objects", 2, &DetectorNodelet::onTracks, this);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   pairing_ =
@@ -155,10 +156,10 @@ void DetectorNodelet::onTracks(const scene_graph_tracker::TrackedObjectArray::Co
   schedule_.observe(msg->header.stamp.toSec(), tracks);
 }
 
-bool DetectorNodelet::scheduled(const std_msgs::Header& header) {
+bool DetectorNodelet::scheduled(const std_msgs::Header& header, const cv::Mat& rgb) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (schedule_.due(header.stamp.toSec())) return true;
+    if (schedule_.due(header.stamp.toSec(), rgb)) return true;
     ++counts_.not_scheduled;
   }
   scene_graph_tracker::PoseHypothesisArray none;
@@ -167,9 +168,19 @@ bool DetectorNodelet::scheduled(const std_msgs::Header& header) {
   return false;
 }
 
+cv::Mat DetectorNodelet::viewOf(const sensor_msgs::Image& image,
+                                const sensor_msgs::CameraInfo& info) const {
+  if (!(new_view_share_ > 0.0)) return {};
+  try {
+    return rgbFromImage(image, toPinhole(info));
+  } catch (const std::exception&) {
+    return {};  // detect() reports what is wrong with the image
+  }
+}
+
 void DetectorNodelet::onImage(const sensor_msgs::ImageConstPtr& image,
                               const sensor_msgs::CameraInfoConstPtr& info) {
-  if (!scheduled(image->header)) return;
+  if (!scheduled(image->header, viewOf(*image, *info))) return;
   for (const RgbFrame& frame : pairing_->addImage({image, info}, ::ros::WallTime::now()))
     detect(frame);
 }

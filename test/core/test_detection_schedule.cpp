@@ -1,6 +1,9 @@
 // The detector's schedule: every image while a track is tentative, at the settled interval while
-// every track is confirmed; lost and removed tracks with a backoff; time jumps start over.
+// every track is confirmed; lost and removed tracks with a backoff; time jumps start over; a view
+// that turned brings new images in at once.
 #include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
 
 #include "scene_graph_tracker/detection/detection_schedule.hpp"
 
@@ -90,6 +93,43 @@ TEST(DetectionSchedule, AnImageBeforeTheLastRunIsDetected) {
   EXPECT_FALSE(s.due(101.0));
   EXPECT_TRUE(s.due(3.0)) << "the bag started again";
   EXPECT_FALSE(s.due(4.0));
+}
+
+// A 640 x 480 window at (x, y) of a large scene of random grey and coloured blocks (a scene the
+// camera pans over); another seed, another scene.
+cv::Mat view(int x, int y, unsigned seed = 1) {
+  cv::Mat scene(720, 960, CV_8UC3, cv::Scalar::all(128));
+  cv::RNG rng(0x9E3779B97F4A7C15ull * seed);
+  for (int k = 0; k < 600; ++k) {
+    const cv::Point p(rng.uniform(0, 960), rng.uniform(0, 720));
+    const cv::Size size(rng.uniform(16, 96), rng.uniform(16, 96));
+    cv::rectangle(scene, cv::Rect(p, size),
+                  cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256)),
+                  cv::FILLED);
+  }
+  return scene(cv::Rect(x, y, 640, 480)).clone();
+}
+
+TEST(ViewNovelty, TheShareOfTheImageAPanBroughtIntoView) {
+  ViewNovelty n;
+  EXPECT_EQ(n.share(view(100, 100)), 1.0) << "nothing seen yet";
+  n.remember(view(100, 100));
+  EXPECT_LT(n.share(view(100, 100)), 0.02);
+  EXPECT_NEAR(n.share(view(228, 100)), 128.0 / 640.0, 0.05) << "a fifth of the width";
+  EXPECT_NEAR(n.share(view(36, 100)), 64.0 / 640.0, 0.05) << "the other way";
+  EXPECT_NEAR(n.share(view(100, 196)), 96.0 / 480.0, 0.05) << "a fifth of the height";
+  EXPECT_GT(n.share(view(100, 100, 2)), 0.6) << "another scene";
+}
+
+TEST(DetectionSchedule, AnImageThatShowsMuchNewIsDetectedWhateverTheInterval) {
+  DetectionSchedule s({0.0, 10.0, 0.25, 0.15});
+  s.observe(0.0, kConfirmed);
+  EXPECT_TRUE(s.due(1.0, view(100, 100))) << "the first image";
+  EXPECT_FALSE(s.due(1.1, view(100, 100)));
+  EXPECT_FALSE(s.due(1.2, view(140, 100))) << "a sixteenth new";
+  EXPECT_TRUE(s.due(1.3, view(200, 100))) << "a sixth new";
+  EXPECT_FALSE(s.due(1.4, view(210, 100))) << "new since that run: little";
+  EXPECT_FALSE(s.due(1.5)) << "no image: the interval alone";
 }
 
 }  // namespace

@@ -55,7 +55,9 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onDepth(const sensor_msgs::ImageConstPtr& depth);
   void onTracks(const scene_graph_tracker::TrackedObjectArray::ConstPtr& tracks);
   // Whether the schedule detects on the image; if not, publishes its empty array.
-  bool scheduled(const std_msgs::Header& header);
+  bool scheduled(const std_msgs::Header& header, const cv::Mat& rgb);
+  // The image for the schedule's view change (empty when new_view_share is off or it is bad).
+  cv::Mat viewOf(const sensor_msgs::Image& image, const sensor_msgs::CameraInfo& info) const;
   void detect(const RgbFrame& frame);  // detects on the frame and publishes its hypotheses
   void onUndecodable(const std::string& text);
   // The buffered depth image closest to `stamp` within depth_max_offset, as range measurements of
@@ -78,7 +80,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   PinholeRayCache depth_rays_;
   ::ros::Subscriber tracks_sub_;
   detection::DetectionSchedule schedule_;  // under mutex_
-  struct Counts {                          // under mutex_
+  double new_view_share_ = 0.0;
+  struct Counts {  // under mutex_
     std::size_t images_in = 0, published = 0, skipped = 0, depth_unused = 0, hypotheses = 0;
     std::size_t not_scheduled = 0;
     std::string last_problem;

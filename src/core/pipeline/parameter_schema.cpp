@@ -557,6 +557,10 @@ Schema<D> makeDetectorSchema() {
       number<D>("lost_backoff", kDetection, DET(schedule.lost_backoff), 0.0, 100.0, "", kStart,
                 "a lost or removed track asks for detection every max(busy_interval, this x "
                 "seconds gone), up to settled_interval"),
+      number<D>("new_view_share", kDetection, DET(schedule.new_view_share), 0.0, 1.0, "", kStart,
+                "an image of which at least this share is new since the last detected one (the "
+                "camera turned, something moved away or came closer; detection/view_novelty.hpp) "
+                "is detected whatever the interval; 0: off"),
       text<D>("dnn_backend", kDetection, DET(inference.backend), true,
               "OpenCV DNN backend: opencv, cuda or default (cuda on a Jetson with a CUDA build "
               "of OpenCV; what the build cannot run falls back to opencv / cpu, with a warning)"),
