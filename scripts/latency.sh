@@ -22,10 +22,20 @@ set +u; source "$root/build/devel/setup.bash"; set -u
 export ROS_PACKAGE_PATH="$root:${ROS_PACKAGE_PATH:-}"
 port=11398
 export ROS_MASTER_URI=http://localhost:$port
-roslaunch -p $port scene_graph_tracker replay.launch bag:="$(realpath "$bag")" rviz:=false ${LATENCY_LAUNCH_ARGS:-} > "$root/build/latency_launch.log" 2>&1 &
+# The bag starts paused: the tracker loads the static map first (about 0.5 s for the demo's), and
+# frames played before it subscribes would count as unanswered although no tracker was running.
+roslaunch -p $port scene_graph_tracker replay.launch bag:="$(realpath "$bag")" rviz:=false paused:=true \
+  ${LATENCY_LAUNCH_ARGS:-} > "$root/build/latency_launch.log" 2>&1 &
 launch=$!
 trap 'kill -INT $launch 2>/dev/null || true; wait $launch 2>/dev/null || true' EXIT
 # The probe must start after replay.launch set /use_sim_time (the clock is read at node start).
 for _ in $(seq 50); do rosparam get /use_sim_time >/dev/null 2>&1 && break; sleep 0.2; done
-"$tools/latency_probe" --duration 26 --output "$out"
+subscribed() { rostopic info "$1" 2>/dev/null | sed -n '/Subscribers:/,$p' | grep -q "$2"; }
+# The tracker subscribes to the LiDAR last, once its map is loaded.
+for _ in $(seq 300); do subscribed /velodyne_points scene_graph_tracker_manager && break; sleep 0.1; done
+"$tools/latency_probe" --duration 26 --output "$out" &
+probe=$!
+for _ in $(seq 100); do subscribed /tracker/tracked_objects latency_probe && break; sleep 0.1; done
+rosservice call /player/pause_playback false > /dev/null
+wait $probe
 echo "written: $out (launch log: build/latency_launch.log)"
