@@ -52,7 +52,6 @@ void DetectorNodelet::onInit() {
                decode.score_threshold, p.inference.backend.c_str(), p.inference.target.c_str());
   hypotheses_pub_ = pnh.advertise<scene_graph_tracker::PoseHypothesisArray>("pose_hypotheses", 5);
   schedule_ = detection::DetectionSchedule(p.schedule);
-  new_view_share_ = p.schedule.new_view_share;
   tracks_sub_ = nh.subscribe("tracked_objects", 2, &DetectorNodelet::onTracks, this);
   debug_pub_ = pnh.advertise<sensor_msgs::Image>("debug_image", 1);
   pairing_ =
@@ -170,7 +169,7 @@ bool DetectorNodelet::scheduled(const std_msgs::Header& header, const cv::Mat& r
 
 cv::Mat DetectorNodelet::viewOf(const sensor_msgs::Image& image,
                                 const sensor_msgs::CameraInfo& info) const {
-  if (!(new_view_share_ > 0.0)) return {};
+  if (!schedule_.watchesView()) return {};  // the options, set once in onInit
   try {
     return rgbFromImage(image, toPinhole(info));
   } catch (const std::exception&) {

@@ -6,12 +6,12 @@
 // every max(busy, lost_backoff x time gone), up to the settled interval. An object that just went
 // behind something or out of view is looked for often, one gone for good (or a false track that
 // lingers) soon costs no more than the settled rate. Whatever the interval, an image of which at
-// least `new_view_share` is new since the last detected one (the camera turned or moved: what
-// came into view has not been looked at; ViewNovelty) is detected. The same schedule runs in the
-// detector nodelet (on the tracker's published tracks) and in `evaluate` (on the pipeline's). The
-// detector's defaults keep it off (settled_interval 0: every image): with it on, the live Tiago
-// rostest confirms false tracks that detections on every image avoid (doc/experiments.md
-// section 39).
+// least `new_view_share` is new since the last detected one (the camera turned, something moved
+// away or came closer: what is new has not been looked at; ViewNovelty) is detected. The same
+// schedule runs in the detector nodelet (on the tracker's published tracks) and in `evaluate` (on
+// the pipeline's). The detector's defaults keep it off (settled_interval 0: every image): with it
+// on, the live Tiago rostest confirms false tracks that detections on every image avoid
+// (doc/experiments.md section 39).
 #pragma once
 
 #include <map>
@@ -49,6 +49,8 @@ class DetectionSchedule {
   // The interval the tracks observed last ask for (s).
   double interval() const { return interval_; }
   bool settled() const { return interval_ >= options_.settled_interval_s; }
+  // Whether due() looks at the image (new_view_share set): a caller may skip decoding it if not.
+  bool watchesView() const { return options_.new_view_share > 0.0; }
 
  private:
   double lostSince(const std::string& id, double stamp) const;

@@ -80,8 +80,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   PinholeRayCache depth_rays_;
   ::ros::Subscriber tracks_sub_;
   detection::DetectionSchedule schedule_;  // under mutex_
-  double new_view_share_ = 0.0;
-  struct Counts {  // under mutex_
+  struct Counts {                          // under mutex_
     std::size_t images_in = 0, published = 0, skipped = 0, depth_unused = 0, hypotheses = 0;
     std::size_t not_scheduled = 0;
     std::string last_problem;

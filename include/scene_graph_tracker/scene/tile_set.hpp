@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <bitset>
 #include <cstdint>
 #include <vector>
 
@@ -93,7 +94,7 @@ void TileSet::keepRays(const SensorRays& rays, Keep&& keep) {
     if (lanes[b] == 0) continue;
     tiles_[kept_tiles] = tiles_[b];
     tiles_[kept_tiles++].lanes = lanes[b];
-    rays_ += static_cast<std::size_t>(__builtin_popcount(lanes[b]));
+    rays_ += std::bitset<16>(lanes[b]).count();
   }
   tiles_.resize(kept_tiles);
 }

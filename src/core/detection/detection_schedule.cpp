@@ -9,7 +9,7 @@ constexpr double kStampTolerance = 1e-3;
 }  // namespace
 
 bool DetectionSchedule::due(double stamp, const cv::Mat& rgb) {
-  const bool view = options_.new_view_share > 0.0 && !rgb.empty();
+  const bool view = watchesView() && !rgb.empty();
   const bool run = !ran_ || stamp < last_run_ || stamp - last_run_ >= interval_ - kStampTolerance ||
                    (view && novelty_.share(rgb) >= options_.new_view_share);
   if (run) ran_ = true, last_run_ = stamp;
