@@ -272,6 +272,38 @@ TEST(Removal, AConfirmedTrackIsLostWhenUnseenAndGoesOnlyOnEvidenceOfAbsence) {
   EXPECT_TRUE(next(t.life, seen_missing, kOptions).remove);
 }
 
+// A track left behind in the air where a carried object was: seen missing for 0.6 s, out of view
+// for 1.5 s while the robot turns, seen missing again. The hidden frames neither clear nor count.
+TEST(Removal, EvidenceOfAbsenceAddsUpOverTheFramesThatSeeTheTrack) {
+  Transition t{};
+  t.life = confirmedLife(0.0);
+  TrackEvidence missing = noFit(0.0, RefineStatus::kFalseHypothesis);
+  missing.absence_seen = true;
+  TrackEvidence hidden = noFit(0.0);
+  hidden.hidden = true;
+  double stamp = 0.0;
+  const auto frames = [&](TrackEvidence e, double seconds) {
+    for (const double end = stamp + seconds - 1e-9; stamp < end;) {
+      e.stamp = stamp += 0.1;
+      t = next(t.life, e, kOptions);
+      if (t.remove) return;
+    }
+  };
+  frames(missing, 0.6);
+  frames(hidden, 1.5);
+  EXPECT_FALSE(t.remove) << "0.5 s of absence seen, the rest hidden";
+  frames(missing, 0.4);
+  EXPECT_FALSE(t.remove) << "0.9 s: frames 0.1-0.6 s and 2.1-2.5 s";
+  frames(missing, 0.3);
+  EXPECT_TRUE(t.remove) << "1 s seen missing, at " << stamp;
+  EXPECT_NEAR(stamp, 2.6, 1e-9);
+  // A frame that sees it there clears the clock; one that cannot tell does not.
+  t.life = confirmedLife(0.0), stamp = 0.0;
+  frames(missing, 0.6);
+  frames(noFit(0.0), 0.1);
+  EXPECT_LT(t.life.absent_since, 0.0);
+}
+
 TEST(Removal, ALostTrackSeenWholeAgainIsConfirmedAndClearsAbsence) {
   TrackLife life = confirmedLife(0.0);
   life.state = TrackState::kLost;

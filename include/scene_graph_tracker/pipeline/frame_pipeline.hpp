@@ -200,15 +200,16 @@ class FramePipeline {
   LifecycleOptions lifecycleOptions() const { return sgt::lifecycleOptions(options_); }
   void setTracksEnabled(bool enabled);
 
-  // Whether the measurements show track k missing at its current pose in the scene: enough rays
-  // reach its model (min_points), most of those that would reach it without the other tracks
-  // (max_hidden_fraction_for_absence), and most of them pass through where its surface should be
-  // (measured beyond it; those measured before it within absence_noise_sigmas count against).
-  // frame_pipeline_visibility.cpp.
+  // What the measurements show of track k at its current pose in the scene. Missing: enough
+  // rays reach its model (min_points), most of those that would reach it without the other
+  // tracks (max_hidden_fraction_for_absence), and most of them pass through where its surface
+  // should be (measured beyond it; those measured before it within absence_noise_sigmas count
+  // against). Hidden: too few rays reach it, or it would be missing but other tracks hide more of
+  // it. There: otherwise. frame_pipeline_visibility.cpp.
   // `agreement` (when given): the share of those rays that agree with the model, or -1 when too
   // few reach it or other tracks hide more of it.
-  bool seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets,
-                   double* agreement = nullptr);
+  Sighting sight(std::size_t k, const std::vector<RangeMeasurements>& sets,
+                 double* agreement = nullptr);
   // Track k, seen absent where it coasts, dropped straight down (world -z) by up to
   // unseen_drop_m onto what lies below it: when the sensors cannot see it missing there (it went
   // down into a container, behind a wall), it stays there with a restarted filter. Returns

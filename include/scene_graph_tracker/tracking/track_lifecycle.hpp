@@ -68,6 +68,9 @@ struct TrackEvidence {
   ObjectQuality fit;          // this frame's refinement
   double fit_jump_m = 0.0;    // how far the refinement moved it
   bool absence_seen = false;  // a coasting track: the rays that should reach it find nothing
+  // A coasting track that too few rays reach, or that other tracks hide: no evidence either way.
+  // Its absence clock pauses: evidence of absence is counted over the time it is seen.
+  bool hidden = false;
   // A track whose fit the turn gate refused, in view where it coasts (enough rays reach it, other
   // tracks hide at most max_hidden_fraction_for_absence of it): the share of those rays its model
   // there explains. < 0: none such.
@@ -75,6 +78,9 @@ struct TrackEvidence {
   bool sunk = false;               // its model lies partly inside the static map
   bool queued_for_search = false;  // an orientation search is already pending for it
 };
+
+// What the rays of a frame say of a track where it stands.
+enum class Sighting { kHidden, kThere, kMissing };
 
 // What this frame's refinement does to the track's pose.
 enum class FitUse {

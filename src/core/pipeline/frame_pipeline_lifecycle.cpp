@@ -148,7 +148,8 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
   for (std::size_t k : coasting) {
     TrackEvidence& e = evidence[k];
     const bool gated = e.fit.status == RefineStatus::kImplausibleTurn;
-    e.absence_seen = seesAbsence(k, sets, gated ? &e.coast_agreement : nullptr);
+    const Sighting seen = sight(k, sets, gated ? &e.coast_agreement : nullptr);
+    e.absence_seen = seen == Sighting::kMissing, e.hidden = seen == Sighting::kHidden;
     // Dropped out of sight: what the rays showed where it was says nothing of where it is now.
     if (e.absence_seen && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets))
       e.absence_seen = false, e.coast_agreement = -1.0;

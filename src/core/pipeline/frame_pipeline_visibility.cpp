@@ -68,18 +68,18 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
 
 }  // namespace
 
-bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasurements>& sets,
-                                double* agreement) {
+Sighting FramePipeline::sight(std::size_t k, const std::vector<RangeMeasurements>& sets,
+                              double* agreement) {
   if (agreement) *agreement = -1.0;
   const NodeId node = tracks_[k].out.node;
   const ObjectExtent extent{scene_.instancePose(node), scene_.meshBox(scene_.instanceMesh(node))};
   const RefinerOptions ro = withSensorNoise(options_.refiner);
   const auto sigmas = std::make_optional(static_cast<float>(options_.absence_noise_sigmas));
   const RayCounts seen = countRays(scene_, node, extent, sets, ro, sigmas);
-  if (seen.reaching < ro.alignment.min_points) return false;
+  if (seen.reaching < ro.alignment.min_points) return Sighting::kHidden;
   // Most rays that reach it pass through where its surface should be.
   const bool missing = seen.seenThrough() > (1.0 - ro.min_inlier_ratio) * seen.reaching;
-  if (!missing && !agreement) return false;
+  if (!missing && !agreement) return Sighting::kThere;
   for (const Track& t : tracks_)
     if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
   scene_.commit();
@@ -90,7 +90,8 @@ bool FramePipeline::seesAbsence(std::size_t k, const std::vector<RangeMeasuremen
       seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
   if (agreement && in_view)
     *agreement = static_cast<double>(seen.agreeing) / std::max(1, seen.reaching - seen.in_front);
-  return missing && in_view;
+  if (!missing) return Sighting::kThere;
+  return in_view ? Sighting::kMissing : Sighting::kHidden;
 }
 
 bool FramePipeline::dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets) {
@@ -106,7 +107,7 @@ bool FramePipeline::dropsOutOfSight(std::size_t k, const std::vector<RangeMeasur
   dropped.translation().z() -= below.gap;
   scene_.setInstancePose(t.out.node, dropped);
   scene_.commit();
-  if (seesAbsence(k, sets)) {  // missing there too
+  if (sight(k, sets) == Sighting::kMissing) {  // missing there too
     scene_.setInstancePose(t.out.node, where);
     scene_.commit();
     return false;

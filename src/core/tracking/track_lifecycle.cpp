@@ -38,7 +38,10 @@ void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
     life.fit_support = FitSupport::next(life.fit_support, e.coast_agreement, o);
     absent |= FitSupport::unsupported(e.child, life.fit_support, o);
   }
-  life.absent_since = absentSince(life.absent_since, absent, e.stamp);
+  if (!absent && e.hidden && life.absent_since >= 0.0 && before.last_stamp >= 0.0)
+    life.absent_since += e.stamp - before.last_stamp;  // paused while nothing can tell
+  else
+    life.absent_since = absentSince(life.absent_since, absent, e.stamp);
   if (before.state == TrackState::kConfirmed) life.state = TrackState::kLost;
 }
 
