@@ -30,6 +30,7 @@
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
 #include "scene_graph_tracker/tracking/pose_filter.hpp"
 #include "scene_graph_tracker/tracking/track_lifecycle.hpp"
+#include "scene_graph_tracker/tracking/unlocated_tracks.hpp"
 
 namespace sgt {
 
@@ -131,6 +132,9 @@ class FramePipeline {
   const std::vector<relations::Entity>& furniture() const { return furniture_; }
 
  private:
+  // A track under `id` (empty: the class's next number); the rest as addTrack.
+  std::string startTrack(const std::string& class_name, const Eigen::Isometry3d& T_map_object,
+                         double stamp, const std::string& id);
   struct Track {
     TrackedObject out;  // pose and quality; its life-cycle fields are filled from `life` on output
     TrackLife life;
@@ -190,6 +194,9 @@ class FramePipeline {
   TrackEvidence applyFit(std::size_t k, const ObjectEstimate& fit,
                          const std::vector<RangeMeasurements>& sets, double stamp,
                          const LifecycleOptions& lo);
+  // Tracks that go (remove[k]) after being confirmed leave their ids waiting (unlocated_); a
+  // track that claimed one and is confirmed found its object.
+  void noteUnlocated(const std::vector<bool>& remove, double stamp);
   // TurnGate on this frame's fit (e.fit) at T_fit.
   bool turnedBeyondGate(const Track& t, const TrackEvidence& e, const Eigen::Isometry3d& T_fit,
                         const LifecycleOptions& lo) const;
@@ -258,6 +265,7 @@ class FramePipeline {
   NodeId map_node_ = kNoNode;
   std::vector<relations::Entity> furniture_;
   relations::RelationHysteresis hysteresis_;
+  UnlocatedTracks unlocated_;  // ids of tracks seen missing, waiting for their objects
 };
 
 }  // namespace sgt

@@ -79,6 +79,10 @@ struct PipelineOptions {
   // tentative_unseen_timeout_s after its last hypothesis.
   double tentative_timeout_s = 1.0;
   double tentative_unseen_timeout_s = 10.0;
+  // A confirmed (or lost) track that goes was seen missing where it stood: its object is
+  // somewhere else. Its id waits this long for the next detection of its class that no track
+  // takes, whose tentative track then carries it (UnlocatedTracks). 0: the id goes with it.
+  double unlocated_keep_s = 60.0;
   double refined_sigma_m = 0.002, refined_sigma_rad = 0.01;  // refined pose noise
   int well_seen_points = 150;  // refinements with fewer inliers count as weaker measurements
   // Depth noise grows with range squared: a fit of an object farther than this from the sensor

@@ -249,13 +249,19 @@ std::vector<TrackedObject> FramePipeline::snapshot() const {
 
 std::string FramePipeline::addTrack(const std::string& class_name,
                                     const Eigen::Isometry3d& T_map_object, double stamp) {
+  return startTrack(class_name, T_map_object, stamp, {});
+}
+
+std::string FramePipeline::startTrack(const std::string& class_name,
+                                      const Eigen::Isometry3d& T_map_object, double stamp,
+                                      const std::string& id) {
   if (!catalog_->contains(class_name))
     throw std::invalid_argument("no class '" + class_name + "' in the catalog");
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   Track t{TrackedObject{}, TrackLife{}, PoseFilter(T_map_object, C, options_.motion)};
   TrackedObject& o = t.out;
   o.class_name = class_name;
-  o.id = class_name + "_" + std::to_string(++class_count_[class_name]);
+  o.id = !id.empty() ? id : class_name + "_" + std::to_string(++class_count_[class_name]);
   o.node = graph_.add(o.id, class_name, kWorldNode, T_map_object);
   o.T_map_object = T_map_object;
   o.covariance = C;
@@ -292,6 +298,7 @@ void FramePipeline::reset() {
   noise_ = options_.presegmentation.noise;
   last_stamp_ = -1.0;
   hysteresis_.clear();
+  unlocated_.clear();
 }
 
 void FramePipeline::continueTrackNumbers(const std::map<std::string, int>& last) {

@@ -83,7 +83,9 @@ void FramePipeline::associate(const std::vector<PoseHypothesis>& hypotheses, dou
         ++out.hypotheses_over_limits;
         continue;
       }
-      addTrack(hypotheses[h].class_name, in_map[h], stamp);
+      // An object whose track was seen missing elsewhere, or a new one: the former's id.
+      const std::string id = unlocated_.claim(hypotheses[h].class_name, in_map[h].translation());
+      startTrack(hypotheses[h].class_name, in_map[h], stamp, id);
       tracks_.back().life.detections = 1;
       placed.push_back(h);
       continue;

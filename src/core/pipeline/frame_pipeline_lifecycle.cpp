@@ -70,8 +70,22 @@ void FramePipeline::updateTracks(const RefineResult& r, const std::vector<RangeM
     if (next_state.search_orientation) needs_orientation_.push_back(t.out.id);
     remove[k] = next_state.remove;
   }
+  noteUnlocated(remove, stamp);
   for (std::size_t k = tracks_.size(); k-- > 0;)
     if (remove[k]) dropped.push_back(tracks_[k].out.id), dropTrack(k);
+}
+
+void FramePipeline::noteUnlocated(const std::vector<bool>& remove, double stamp) {
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    const Track& t = tracks_[k];
+    const bool established = t.life.state != TrackState::kTentative;
+    if (!remove[k] && t.life.state == TrackState::kConfirmed) unlocated_.found(t.out.id);
+    if (remove[k] && established && options_.unlocated_keep_s > 0.0)
+      unlocated_.add(t.out.id, t.out.class_name, t.out.T_map_object.translation(), stamp);
+    else if (remove[k])
+      unlocated_.release(t.out.id);
+  }
+  unlocated_.expire(stamp, options_.unlocated_keep_s);
 }
 
 bool FramePipeline::turnedBeyondGate(const Track& t, const TrackEvidence& e,

@@ -232,6 +232,9 @@ Schema<T> removalParams() {
       number<T>("tentative_unseen_timeout_s", kRemoval, PIPE(tentative_unseen_timeout_s), 0.0,
                 600.0, "s", kRuntime,
                 "a tentative track without a hypothesis for this long goes, in view or not"),
+      number<T>("unlocated_keep_s", kRemoval, PIPE(unlocated_keep_s), 0.0, 3600.0, "s", kRuntime,
+                "the id of a confirmed track that goes waits this long for the next detection of "
+                "its class that no track takes (0: off)"),
       number<T>("max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
                 "share of a model surface deeper than sink_tolerance_m inside the static map that "
                 "removes the track "
