@@ -212,7 +212,7 @@ TEST(Absence, ATentativeTracksFailedFitIsNoEvidenceOfAbsenceButRaysSeenThroughIt
   TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
   e.fit.expected = 100, e.fit.inliers = 10, e.fit.inlier_ratio = 0.1;
   EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
-  e.absence_seen = true;  // most of its rays pass through where it should be
+  e.sighting = Sighting::kMissing;  // most of its rays pass through where it should be
   EXPECT_DOUBLE_EQ(next(TrackLife{}, e, kOptions).life.absent_since, 0.1);
   e.child = true;  // in a container: its walls hide it
   EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
@@ -222,7 +222,7 @@ TEST(Removal, ATentativeTrackGoesQuicklyOnAbsenceAndWhenDetectionsStop) {
   TrackLife life;
   life.last_hypothesis = 0.0;
   TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
-  e.absence_seen = true;
+  e.sighting = Sighting::kMissing;
   Transition t = next(life, e, kOptions);
   EXPECT_DOUBLE_EQ(t.life.absent_since, 0.1);
   e.stamp = 0.3;
@@ -265,7 +265,7 @@ TEST(Removal, AConfirmedTrackIsLostWhenUnseenAndGoesOnlyOnEvidenceOfAbsence) {
     EXPECT_FALSE(t.remove);
   }
   TrackEvidence seen_missing = noFit(30.0, RefineStatus::kFalseHypothesis);
-  seen_missing.absence_seen = true;
+  seen_missing.sighting = Sighting::kMissing;
   t = next(t.life, seen_missing, kOptions);
   EXPECT_FALSE(t.remove);
   seen_missing.stamp = 31.0;
@@ -278,9 +278,9 @@ TEST(Removal, EvidenceOfAbsenceAddsUpOverTheFramesThatSeeTheTrack) {
   Transition t{};
   t.life = confirmedLife(0.0);
   TrackEvidence missing = noFit(0.0, RefineStatus::kFalseHypothesis);
-  missing.absence_seen = true;
+  missing.sighting = Sighting::kMissing;
   TrackEvidence hidden = noFit(0.0);
-  hidden.hidden = true;
+  hidden.sighting = Sighting::kHidden;
   double stamp = 0.0;
   const auto frames = [&](TrackEvidence e, double seconds) {
     for (const double end = stamp + seconds - 1e-9; stamp < end;) {
@@ -319,7 +319,8 @@ TEST(ChildOfContainer, AHiddenChildCollectsNoAbsenceAndIsKept) {
   TrackLife life = confirmedLife(0.0);
   TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
   e.child = true;
-  e.absence_seen = true;  // the rays would say so, but its parent hides it more than they know
+  e.sighting =
+      Sighting::kMissing;  // the rays would say so, but its parent hides it more than they know
   for (double stamp = 0.1; stamp < 10.0; stamp += 0.5) {
     e.stamp = stamp;
     const Transition t = next(life, e, kOptions);

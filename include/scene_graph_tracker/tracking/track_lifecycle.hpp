@@ -61,16 +61,18 @@ struct TrackLife {
   int position_disputes = 0;     // consecutive associated hypotheses placed away from it
 };
 
+// What the rays of a frame say of a coasting track where it stands: there; missing (the rays that
+// should reach it find nothing); hidden (too few rays reach it, or other tracks hide it: no
+// evidence either way, so its absence clock pauses and absence counts over the time it is seen).
+enum class Sighting { kThere, kMissing, kHidden };
+
 // What one frame says about a track.
 struct TrackEvidence {
   double stamp = 0.0;
-  bool child = false;         // in or on another track (its scene-graph parent moves it)
-  ObjectQuality fit;          // this frame's refinement
-  double fit_jump_m = 0.0;    // how far the refinement moved it
-  bool absence_seen = false;  // a coasting track: the rays that should reach it find nothing
-  // A coasting track that too few rays reach, or that other tracks hide: no evidence either way.
-  // Its absence clock pauses: evidence of absence is counted over the time it is seen.
-  bool hidden = false;
+  bool child = false;                    // in or on another track (its scene-graph parent moves it)
+  ObjectQuality fit;                     // this frame's refinement
+  double fit_jump_m = 0.0;               // how far the refinement moved it
+  Sighting sighting = Sighting::kThere;  // a coasting track's
   // A track whose fit the turn gate refused, in view where it coasts (enough rays reach it, other
   // tracks hide at most max_hidden_fraction_for_absence of it): the share of those rays its model
   // there explains. < 0: none such.
@@ -78,9 +80,6 @@ struct TrackEvidence {
   bool sunk = false;               // its model lies partly inside the static map
   bool queued_for_search = false;  // an orientation search is already pending for it
 };
-
-// What the rays of a frame say of a track where it stands.
-enum class Sighting { kHidden, kThere, kMissing };
 
 // What this frame's refinement does to the track's pose.
 enum class FitUse {
@@ -220,7 +219,7 @@ struct PresegmentationRole {
 };
 
 FitUse useOfFit(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
-// The one transition of a frame. Evidence of absence for a coasting track is e.absence_seen.
+// The one transition of a frame. Evidence of absence for a coasting track is its sighting.
 Transition next(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
 
 }  // namespace sgt

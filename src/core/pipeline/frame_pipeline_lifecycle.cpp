@@ -162,11 +162,11 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
   for (std::size_t k : coasting) {
     TrackEvidence& e = evidence[k];
     const bool gated = e.fit.status == RefineStatus::kImplausibleTurn;
-    const Sighting seen = sight(k, sets, gated ? &e.coast_agreement : nullptr);
-    e.absence_seen = seen == Sighting::kMissing, e.hidden = seen == Sighting::kHidden;
+    e.sighting = sight(k, sets, gated ? &e.coast_agreement : nullptr);
     // Dropped out of sight: what the rays showed where it was says nothing of where it is now.
-    if (e.absence_seen && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets))
-      e.absence_seen = false, e.coast_agreement = -1.0;
+    if (e.sighting == Sighting::kMissing && options_.unseen_drop_m > 0.0 &&
+        dropsOutOfSight(k, sets))
+      e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
   }
   for (std::size_t k : order)
     evidence[k].sunk =

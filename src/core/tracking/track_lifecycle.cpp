@@ -30,7 +30,7 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
 void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
            const LifecycleOptions& o) {
   TrackLife& life = t.life;
-  bool absent = ChildOfContainer::collectsAbsence(e.child) && e.absence_seen;
+  bool absent = ChildOfContainer::collectsAbsence(e.child) && e.sighting == Sighting::kMissing;
   // The turn gate refused the fit but keeps the track in view: the measurements at the pose it
   // keeps support it as a taken fit's would (a track the gate keeps where an unknown thing stands
   // is contradicted as one whose fits are taken).
@@ -38,7 +38,8 @@ void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
     life.fit_support = FitSupport::next(life.fit_support, e.coast_agreement, o);
     absent |= FitSupport::unsupported(e.child, life.fit_support, o);
   }
-  if (!absent && e.hidden && life.absent_since >= 0.0 && before.last_stamp >= 0.0)
+  if (!absent && e.sighting == Sighting::kHidden && life.absent_since >= 0.0 &&
+      before.last_stamp >= 0.0)
     life.absent_since += e.stamp - before.last_stamp;  // paused while nothing can tell
   else
     life.absent_since = absentSince(life.absent_since, absent, e.stamp);
