@@ -187,17 +187,34 @@ MODEL_CAMERA_EFFECTS ?= 0
 # A directory of photographs for textures and backgrounds of the train renders (render_dataset --photos);
 # make photos fills PHOTOS_DIR with a set; empty: none
 MODEL_PHOTOS ?=
+# Frames of generated scenarios like the suite's (render_dataset --scenarios): MODEL_SCENARIOS scenarios
+# from MODEL_SCENARIO_SEED for the train set (its share MODEL_SCENARIO_FRACTION), a fifth as many from
+# the next seed for the val set (its share MODEL_VAL_SCENARIO_FRACTION); 0: none. Keep the seed off
+# the suite's (SUITE_SEED).
+MODEL_SCENARIOS ?= 0
+MODEL_SCENARIO_SEED ?= 101
+MODEL_SCENARIO_FRACTION ?= 1
+MODEL_VAL_SCENARIO_FRACTION ?= 0
+MODEL_TRAIN_SCENARIOS = $(if $(filter-out 0,$(MODEL_SCENARIOS)),--scenarios $(MODEL_DIR)/scenarios/train \
+  --scenario-fraction $(MODEL_SCENARIO_FRACTION))
+MODEL_VAL_SCENARIOS = $(if $(filter-out 0,$(MODEL_SCENARIOS)),--scenarios $(MODEL_DIR)/scenarios/val \
+  --scenario-fraction $(MODEL_VAL_SCENARIO_FRACTION))
 # Where the trained model goes (its .yaml beside it); another path keeps the shipped one
 MODEL_OUTPUT ?= models/sgt_keypoints.onnx
 # MODEL_INIT=models/sgt_keypoints.onnx continues training from that model (warm start)
 MODEL_INIT ?=
 model: build
-	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val && mkdir -p $(MODEL_DIR)
+	@rm -rf $(MODEL_DIR)/train $(MODEL_DIR)/val $(MODEL_DIR)/scenarios && mkdir -p $(MODEL_DIR)
+	$(if $(filter-out 0,$(MODEL_SCENARIOS)),$(TOOLS)/generate_scenarios --count $(MODEL_SCENARIOS) --seed $(MODEL_SCENARIO_SEED) \
+	  --output $(MODEL_DIR)/scenarios/train $(MODEL_CLASSES) && $(TOOLS)/generate_scenarios \
+	  --count $$(( ($(MODEL_SCENARIOS) + 4) / 5 )) --seed $$(( $(MODEL_SCENARIO_SEED) + 1 )) \
+	  --output $(MODEL_DIR)/scenarios/val $(MODEL_CLASSES))
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/train --count $(MODEL_TRAIN_IMAGES) --seed $(MODEL_TRAIN_SEED) \
 	  --max-distance $(MODEL_MAX_DISTANCE) --bench-fraction $(MODEL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES) \
-	  --textures $(MODEL_TEXTURES) --camera-effects $(MODEL_CAMERA_EFFECTS) $(if $(MODEL_PHOTOS),--photos $(MODEL_PHOTOS))
+	  --textures $(MODEL_TEXTURES) --camera-effects $(MODEL_CAMERA_EFFECTS) $(if $(MODEL_PHOTOS),--photos $(MODEL_PHOTOS)) \
+	  $(MODEL_TRAIN_SCENARIOS)
 	$(TOOLS)/render_dataset --output $(MODEL_DIR)/val --count $(MODEL_VAL_IMAGES) --seed 2 --max-distance $(MODEL_MAX_DISTANCE) \
-	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES)
+	  --bench-fraction $(MODEL_VAL_BENCH_FRACTION) --labels $(MODEL_LABELS) $(MODEL_CLASSES) $(MODEL_VAL_SCENARIOS)
 	set -o pipefail; /usr/bin/python3 scripts/train_detector.py --train $(MODEL_DIR)/train --val $(MODEL_DIR)/val \
 	  --minutes $(MODEL_MINUTES) --lr $(MODEL_LR) $(if $(MODEL_INIT),--init $(MODEL_INIT)) --output $(MODEL_OUTPUT) \
 	  --checkpoint-dir $(MODEL_DIR)/checkpoints 2>&1 | tee $(MODEL_DIR)/train.log

@@ -5,6 +5,7 @@
 //                                             [--bench-fraction F] [--labels object|cuboid|shape]
 //                                             [--catalog FILE] [--mesh-dir D]
 //                                             [--textures P] [--camera-effects P] [--photos DIR]
+//                                             [--scenarios DIR [--scenario-fraction F]]
 //
 // Two kinds of scene: random ones (objects in any pose on a random table or the floor, any view
 // from 0.5 m to M) and, for a fraction F of the images, bench scenes like the robot's (objects
@@ -18,6 +19,11 @@
 // probability kPhotoTextureChance and puts a photograph behind the scene (in place of the building,
 // the plain walls and the void; the table, objects, distractors and people stay) in a share
 // kPhotoBackgroundChance of the images. Without it the images are as they were.
+//
+// --scenarios DIR (evaluation/scenario_images.hpp) renders a fraction F (default 1) of the images
+// as the simulator renders the frames of DIR's scenario files (e.g. `generate_scenarios` with a
+// seed other than the suite's) at random times: the scenes the suite shows the detector. Camera
+// effects apply to them too; textures and photographs do not (they keep the scenario's look).
 //
 // DIR/images/000123.png   640x480 RGB
 // DIR/labels/000123.txt   per visible object: class cx cy w h x0 y0 v0 ... x8 y8 v8, normalised by
@@ -44,6 +50,7 @@
 #include "scene_graph_tracker/detection/keypoint_labels.hpp"
 #include "scene_graph_tracker/detection/label_kind.hpp"
 #include "scene_graph_tracker/evaluation/keypoint_dataset.hpp"
+#include "scene_graph_tracker/evaluation/scenario_images.hpp"
 #include "scene_graph_tracker/geometry/primitives.hpp"
 #include "scene_graph_tracker/simulation/appearance.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
@@ -76,6 +83,8 @@ struct Args {
   double camera_effects = 0.0;  // probability that an image gets camera effects
   std::string photos;           // directory of photographs (empty: none)
   bool depth = false;           // also depth/: the registered depth image (noise-free)
+  std::string scenarios;        // directory of scenario files (empty: none)
+  double scenario_fraction = 1.0;
 };
 
 struct Rng {
@@ -93,6 +102,20 @@ struct Rng {
     return q.normalized();
   }
 };
+
+// Exposure, white balance and gamma of a cheap camera, half the time blur and JPEG, and noise.
+sgt::sim::CameraEffects drawCameraEffects(Rng& rng) {
+  sgt::sim::CameraEffects e;
+  e.gain = static_cast<float>(rng.uniform(0.6, 1.5));
+  e.white_balance =
+      Vector3f(rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15));
+  e.gamma = static_cast<float>(rng.uniform(0.7, 1.4));
+  e.blur_sigma = rng.chance(0.5) ? static_cast<float>(rng.uniform(0.3, 1.5)) : 0.0f;
+  e.noise_sigma = static_cast<float>(rng.uniform(0.0, 8.0));
+  e.jpeg_quality = rng.chance(0.5) ? rng.integer(40, 95) : 0;
+  e.seed = static_cast<std::uint32_t>(rng.integer(0, 1 << 30));
+  return e;
+}
 
 Isometry3d pose(const Eigen::Matrix3d& R, const Vector3d& t) {
   Isometry3d T = Isometry3d::Identity();
@@ -212,7 +235,6 @@ class DatasetRenderer {
   sgt::Symmetry labelSymmetry(const sgt::ObjectClass& oc) const;
   void wrapInPhotos(Rng& rng);
   void putPhotoBehind(Rng& rng, cv::Mat& bgr, const sgt::SimulatedScan& scan) const;
-  sgt::sim::CameraEffects drawCameraEffects(Rng& rng) const;
 
   const sgt::ObjectCatalog& catalog_;
   const std::vector<std::string> classes_;  // label id -> class name
@@ -309,20 +331,6 @@ void DatasetRenderer::putPhotoBehind(Rng& rng, cv::Mat& bgr, const sgt::Simulate
           n == sgt::kNoNode || n == kMapNode || (n >= kFirstWallNode && n < kFirstObjectNode);
     }
   view.copyTo(bgr, behind);
-}
-
-// Exposure, white balance and gamma of a cheap camera, half the time blur and JPEG, and noise.
-sgt::sim::CameraEffects DatasetRenderer::drawCameraEffects(Rng& rng) const {
-  sgt::sim::CameraEffects e;
-  e.gain = static_cast<float>(rng.uniform(0.6, 1.5));
-  e.white_balance =
-      Vector3f(rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15), rng.uniform(0.85, 1.15));
-  e.gamma = static_cast<float>(rng.uniform(0.7, 1.4));
-  e.blur_sigma = rng.chance(0.5) ? static_cast<float>(rng.uniform(0.3, 1.5)) : 0.0f;
-  e.noise_sigma = static_cast<float>(rng.uniform(0.0, 8.0));
-  e.jpeg_quality = rng.chance(0.5) ? rng.integer(40, 95) : 0;
-  e.seed = static_cast<std::uint32_t>(rng.integer(0, 1 << 30));
-  return e;
 }
 
 // A table (or the bare floor) in a random building room or in a room of plain coloured walls;
@@ -660,7 +668,39 @@ void usage(std::ostream& os) {
         "                      probability P (default 0)\n"
         "  --photos DIR        photographs (.jpg, .png under DIR) as surface textures and "
         "backgrounds\n"
-        "                      (make photos fetches a set)\n";
+        "                      (make photos fetches a set)\n"
+        "  --scenarios DIR     render frames of DIR's scenario files (generate_scenarios) at "
+        "random times\n"
+        "  --scenario-fraction F  this fraction of the images (0-1, default 1) come from "
+        "--scenarios\n";
+}
+
+// Whether image `index` comes from the scenarios: drawn from a stream of its own, so that the
+// other images stay as they were.
+bool fromScenario(const Args& args, std::size_t index) {
+  return Rng{std::mt19937(static_cast<std::uint32_t>(args.seed * 613u + index * 1299709u + 41u))}
+      .chance(args.scenario_fraction);
+}
+
+std::unique_ptr<sgt::ScenarioImages> scenarioImages(const sgt::ObjectCatalog& catalog,
+                                                    const Args& args) {
+  if (args.scenarios.empty()) return nullptr;
+  std::vector<sgt::Symmetry> symmetry;
+  for (const auto& name : catalog.listed())
+    symmetry.push_back(sgt::detection::labelSymmetry(catalog.get(name), args.labels));
+  return std::make_unique<sgt::ScenarioImages>(sgt::scenarioFiles(args.scenarios), catalog.listed(),
+                                               symmetry, args.labels, args.mesh_dir,
+                                               kMinVisiblePixels);
+}
+
+void renderScenarioImage(sgt::ScenarioImages& scenarios, const Args& args, std::size_t index,
+                         const fs::path& dir) {
+  sgt::ScenarioImage image = scenarios.render(index, args.count, args.seed);
+  Rng looks{std::mt19937(static_cast<std::uint32_t>(args.seed * 31337u + index * 104729u + 11u))};
+  if (args.camera_effects > 0.0 && looks.chance(args.camera_effects))
+    sgt::sim::applyCameraEffects(image.bgr, drawCameraEffects(looks));
+  cv::imwrite((dir / "images" / (sgt::datasetFrameName(index) + ".png")).string(), image.bgr);
+  sgt::writeDatasetLabels(dir, index, "scenario", image.camera, image.objects);
 }
 
 }  // namespace
@@ -693,6 +733,10 @@ int main(int argc, char** argv) {
       args.camera_effects = std::stod(v);
     else if (a == "--photos")
       args.photos = v;
+    else if (a == "--scenarios")
+      args.scenarios = v;
+    else if (a == "--scenario-fraction")
+      args.scenario_fraction = std::stod(v);
     else if (a == "--depth")
       args.depth = v == "1";
     else if (a == "--labels") {
@@ -708,16 +752,23 @@ int main(int argc, char** argv) {
   if (args.output.empty() || args.count == 0 || !(args.max_distance > 0.5) ||
       !(args.bench_fraction >= 0.0 && args.bench_fraction <= 1.0) ||
       !(args.textures >= 0.0 && args.textures <= 1.0) ||
-      !(args.camera_effects >= 0.0 && args.camera_effects <= 1.0))
+      !(args.camera_effects >= 0.0 && args.camera_effects <= 1.0) ||
+      !(args.scenario_fraction >= 0.0 && args.scenario_fraction <= 1.0))
     return usage(std::cerr), 2;
+  if (!args.scenarios.empty() && args.depth)
+    return std::cerr << "render_dataset: --depth is not available with --scenarios\n", 2;
   try {
     const fs::path dir = fs::absolute(args.output);
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog = sgt::loadObjectCatalog(args.catalog, args.mesh_dir);
     DatasetRenderer renderer(catalog, args);
+    std::unique_ptr<sgt::ScenarioImages> scenarios = scenarioImages(catalog, args);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
-      renderer.render(i, dir);
+      if (scenarios && fromScenario(args, i))
+        renderScenarioImage(*scenarios, args, i, dir);
+      else
+        renderer.render(i, dir);
       bar.update(i + 1);
     }
     bar.finish();
@@ -728,6 +779,9 @@ int main(int argc, char** argv) {
             << " --catalog " << args.catalog << " --textures " << args.textures
             << " --camera-effects " << args.camera_effects << " --depth " << args.depth;
     if (!args.photos.empty()) comment << " --photos " << args.photos;
+    if (!args.scenarios.empty())
+      comment << " --scenarios " << args.scenarios << " --scenario-fraction "
+              << args.scenario_fraction;
     sgt::writeDatasetYaml(dir, comment.str(), catalog.listed());
   } catch (const std::exception& e) {
     std::cerr << "render_dataset: " << e.what() << "\n";

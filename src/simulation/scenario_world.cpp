@@ -187,6 +187,7 @@ CameraFrame ScenarioWorld::renderCamera(double t, std::uint64_t frame_index) {
   f.depth.assign(n, kNaN);
   f.labels.assign(n, kLabelNoReturn);
   f.node.assign(n, kNoNode);
+  f.seen = scan.node;
   f.visible_pixels.assign(s_.objects.size(), 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(m.range[i])) continue;

@@ -26,10 +26,10 @@ def write_junit(suite_name, result, cases, seconds, path):
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
 
 
-def main(suite_name, case_class):
-    """Runs case_class's tests; exits 0 when all pass."""
+def main(suite_name, *case_classes):
+    """Runs the tests of case_classes; exits 0 when all pass."""
     xml = argument("xml")  # read before the tests run: a test may patch sys.argv
-    cases = list(unittest.defaultTestLoader.loadTestsFromTestCase(case_class))
+    cases = [c for k in case_classes for c in unittest.defaultTestLoader.loadTestsFromTestCase(k)]
     start = time.time()
     result = unittest.TextTestRunner(verbosity=2).run(unittest.TestSuite(cases))
     if xml:

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """render_dataset's bench scenes (--bench-fraction) against its random scenes; the classes come from
 a catalog (--catalog), in its order; appearance randomisation (--textures, --camera-effects, --photos) changes
-the pixels only; a catalog's colour is its class's in the renders; --depth writes the registered depth image.
+the pixels only; a catalog's colour is its class's in the renders; --depth writes the registered depth image;
+--scenarios renders frames of generated scenarios, labelled with their objects' poses.
 
   /usr/bin/python3 test/python/test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]
 
@@ -216,15 +217,78 @@ class BenchScenes(unittest.TestCase):
         self.assertTrue(0.0 <= np.median(gaps) < 0.15, np.median(gaps))
 
     def test_a_fraction_outside_zero_to_one_is_refused(self):
-        for flag in ("--bench-fraction", "--textures", "--camera-effects"):
+        for flag in ("--bench-fraction", "--textures", "--camera-effects", "--scenario-fraction"):
             r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", flag, "1.5"],
                                capture_output=True, text=True)
             self.assertEqual(r.returncode, 2, flag)
             self.assertIn(flag, r.stderr)
 
 
+class ScenarioFrames(unittest.TestCase):
+    """Frames of generated scenarios (generate_scenarios beside render_dataset)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.scenarios = os.path.join(cls.tmp.name, "scenarios")
+        subprocess.run([os.path.join(os.path.dirname(TOOL), "generate_scenarios"), "--count", "3", "--seed", "101",
+                        "--output", cls.scenarios], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        cls.out = os.path.join(cls.tmp.name, "frames")
+        cls.poses = cls.render(cls.out, 1.0)
+
+    @classmethod
+    def render(cls, out, fraction):
+        subprocess.run([TOOL, "--output", out, "--count", "15", "--seed", "5", "--scenarios", cls.scenarios,
+                        "--scenario-fraction", str(fraction)], check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        return [json.load(open(p)) for p in sorted(glob.glob(os.path.join(out, "poses", "*.json")))]
+
+    def scenario_classes(self, k):
+        text = open(os.path.join(self.scenarios, "scenario_%03d.yaml" % (k + 1))).read()
+        return {line.split(":")[1].strip() for line in text.splitlines() if line.strip().startswith("class:")}
+
+    def test_each_block_of_images_shows_the_objects_of_its_scenario(self):
+        self.assertEqual({p["scene"] for p in self.poses}, {"scenario"})
+        for k in range(3):  # 15 images, 3 scenarios: five each
+            shown = {o["class"] for p in self.poses[5 * k:5 * k + 5] for o in p["objects"]}
+            self.assertTrue(shown, k)
+            self.assertLessEqual(shown, self.scenario_classes(k), k)
+
+    def test_labels_project_the_objects_pose_into_its_box(self):
+        centres = 0
+        for i, p in enumerate(self.poses):
+            K = np.array(p["K"]).reshape(3, 3)
+            lines = open(os.path.join(self.out, "labels", "%06d.txt" % i)).read().split("\n")
+            boxes = [[float(x) for x in line.split()[1:5]] for line in lines if line.strip()]
+            self.assertEqual(len(boxes), len(p["objects"]), i)
+            for o, (cx, cy, w, h) in zip(p["objects"], boxes):
+                t = np.array(o["T_camera_object"])[:3, 3]
+                self.assertTrue(0.4 < t[2] < 6.0, t)  # in front of the camera, within its range
+                u, v, _ = K @ (t / t[2])
+                if o["visible_pixels"] > 1500:  # mostly in view: its centre projects into its box
+                    centres += 1
+                    self.assertLess(abs(u / p["width"] - cx), w / 2 + 0.02, (i, o["class"]))
+                    self.assertLess(abs(v / p["height"] - cy), h / 2 + 0.02, (i, o["class"]))
+        self.assertGreater(centres, 10)
+
+    def test_the_other_images_stay_as_they_were(self):
+        mixed = self.render(os.path.join(self.tmp.name, "mixed"), 0.5)
+        plain = render(os.path.join(self.tmp.name, "plain"), 15, 5)
+        kinds = [p["scene"] for p in mixed]
+        self.assertTrue(2 <= kinds.count("scenario") <= 13, kinds)
+        for i, kind in enumerate(kinds):
+            same = mixed[i] == plain[i]
+            self.assertEqual(same, kind == "random", i)
+
+    def test_depth_is_refused_with_scenarios(self):
+        r = subprocess.run([TOOL, "--output", os.path.join(self.tmp.name, "bad"), "--count", "1", "--scenarios",
+                            self.scenarios, "--depth", "1"], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--depth", r.stderr)
+
+
 if __name__ == "__main__":
     TOOL = junit_runner.argument("tool")
     if not TOOL:
         sys.exit("usage: test_render_dataset.py --tool=PATH/render_dataset [--xml=RESULT.xml]")
-    junit_runner.main("render_dataset", BenchScenes)
+    junit_runner.main("render_dataset", BenchScenes, ScenarioFrames)
