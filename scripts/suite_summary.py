@@ -66,21 +66,34 @@ def aggregate(reports):
     return out
 
 
+# Per-object hypothesis errors (report.json hypotheses.per_object) that hypotheses_by_class sums up.
+HYPOTHESIS_ERRORS = ('translation_error_median_mm', 'rotation_error_median_deg',
+                     'rotation_error_up_to_box_turns_median_deg')
+
+
 def hypotheses_by_class(entries):
     """Per class over all scenarios: in-view object frames, those with a hypothesis assigned
-    (one to one, within the object's gate), and their share: the detection rate. Classes come
-    from the scenario (`classes`: id -> class), else from the report's scored objects."""
-    out = {}
+    (one to one, within the object's gate), and their share: the detection rate; and, over the
+    class's objects with a hypothesis, the median of their hypotheses' median errors (HYPOTHESIS_ERRORS).
+    Classes come from the scenario (`classes`: id -> class), else from the report's scored objects."""
+    out, errors = {}, {}
     for e in entries:
         r = e['report']
         classes = {i: o['class'] for i, o in r['objects'].get('per_object', {}).items()}
         classes.update(e.get('classes', {}))
         for i, h in r.get('hypotheses', {}).get('per_object', {}).items():
-            c = out.setdefault(classes.get(i, '?'), {'evaluated': 0, 'found': 0})
+            name = classes.get(i, '?')
+            c = out.setdefault(name, {'evaluated': 0, 'found': 0})
             c['evaluated'] += h['evaluated']
             c['found'] += h['found']
-    for c in out.values():
+            for key in HYPOTHESIS_ERRORS:
+                if h['found'] and h.get(key) is not None:
+                    errors.setdefault(name, {}).setdefault(key, []).append(h[key])
+    for name, c in out.items():
         c['rate'] = c['found'] / c['evaluated'] if c['evaluated'] else None
+        for key in HYPOTHESIS_ERRORS:
+            vals = errors.get(name, {}).get(key)
+            c[key] = statistics.median(vals) if vals else None
     return dict(sorted(out.items()))
 
 
@@ -133,10 +146,14 @@ def markdown(summary):
         if st:
             lines.append('| %s (`%s`) | %s | %s | %s |' % (label, name, fmt(st['median']),
                                                            fmt(st['worst']), fmt(st['mean'])))
-    lines += ['', '## Hypotheses per class (detection rate: in-view frames with a hypothesis)', '',
-              '| class | frames | with a hypothesis | rate |', '|---|---|---|---|']
+    lines += ['', '## Hypotheses per class (detection rate: in-view frames with a hypothesis; errors: '
+              'the median over the objects of their hypotheses\' medians)', '',
+              '| class | frames | with a hypothesis | rate | translation error mm | rotation error deg | '
+              'up to box half turns deg |', '|---|---|---|---|---|---|---|']
     for c, h in summary['hypotheses_by_class'].items():
-        lines.append('| %s | %d | %d | %s |' % (c, h['evaluated'], h['found'], fmt(h['rate'])))
+        lines.append('| %s | %d | %d | %s | %s | %s | %s |' % (
+            c, h['evaluated'], h['found'], fmt(h['rate']),
+            *(fmt(h.get(k)) for k in HYPOTHESIS_ERRORS)))
     lines += ['', '## By kind of scenario', '',
               '| kind | scenarios | ADD(-S) recall median | worst | switches worst | '
               'false tracks median |', '|---|---|---|---|---|---|']

@@ -22,7 +22,8 @@ def report(recall, switches, frame_ms, per_object_recall):
                         'per_object': {'relay_1': {'class': 'relay',
                                                    'recall_adds_10': per_object_recall}},
                         'false_positives_by_class': {'relay': switches}},
-            'hypotheses': {'per_object': {'relay_1': {'evaluated': 100, 'found': 50 + switches}}},
+            'hypotheses': {'per_object': {'relay_1': {'evaluated': 100, 'found': 50 + switches,
+                                                      'rotation_error_median_deg': 10.0 * (1 + switches)}}},
             'relations': {'precision': 1.0, 'recall': recall},
             'timing': {'frame_ms_median': frame_ms}}
 
@@ -76,6 +77,12 @@ class SuiteSummaryTest(unittest.TestCase):
                             'hypotheses': {'per_object': {'relay_9': {'evaluated': 20, 'found': 0}}}}}
         relay = suite_summary.hypotheses_by_class([never])['relay']
         self.assertEqual((relay['evaluated'], relay['found'], relay['rate']), (20, 0, 0.0))
+        self.assertIsNone(relay['rotation_error_median_deg'])  # no hypothesis, no error
+
+    def test_hypothesis_errors_per_class_are_the_median_over_its_objects(self):
+        relay = self.summary['hypotheses_by_class']['relay']
+        self.assertAlmostEqual(relay['rotation_error_median_deg'], 20.0)  # of 10, 40, 20
+        self.assertIsNone(relay['translation_error_median_mm'])  # not in the reports
 
     def test_by_kind(self):
         carry = self.summary['by_kind']['carry']
