@@ -135,8 +135,8 @@ TEST(RelationPipeline, RelayInKltBecomesItsChildAndIsCarriedAlong) {
             0.01);
   EXPECT_LT((find(r, "klt_1")->T_map_object.translation() - T_klt.translation()).norm(), 0.01);
 
-  // The relay's fits now fail (gone from the rays: a child gathers no evidence of absence and
-  // stays), and a false relay detection appears 35 cm away on the empty table. It is another
+  // The relay's fits now fail (gone from the rays; too few frames to be removed on evidence of
+  // absence), and a false relay detection appears 35 cm away on the empty table. It is another
   // object: the child is not restarted there (lost tracks of the world are, within 60 cm).
   world.setInstanceEnabled(11, false);
   world.commit();

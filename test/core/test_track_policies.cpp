@@ -214,7 +214,7 @@ TEST(Absence, ATentativeTracksFailedFitIsNoEvidenceOfAbsenceButRaysSeenThroughIt
   EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
   e.sighting = Sighting::kMissing;  // most of its rays pass through where it should be
   EXPECT_DOUBLE_EQ(next(TrackLife{}, e, kOptions).life.absent_since, 0.1);
-  e.child = true;  // in a container: its walls hide it
+  e.sighting = Sighting::kHidden;  // in a container: its walls hide it
   EXPECT_LT(next(TrackLife{}, e, kOptions).life.absent_since, 0.0);
 }
 
@@ -315,12 +315,11 @@ TEST(Removal, ALostTrackSeenWholeAgainIsConfirmedAndClearsAbsence) {
   EXPECT_FALSE(t.remove);
 }
 
-TEST(ChildOfContainer, AHiddenChildCollectsNoAbsenceAndIsKept) {
+TEST(Removal, AChildHiddenByItsContainerStaysAndOneSeenMissingGoes) {
   TrackLife life = confirmedLife(0.0);
   TrackEvidence e = noFit(0.1, RefineStatus::kFalseHypothesis);
   e.child = true;
-  e.sighting =
-      Sighting::kMissing;  // the rays would say so, but its parent hides it more than they know
+  e.sighting = Sighting::kHidden;  // its container's walls: too few rays reach it
   for (double stamp = 0.1; stamp < 10.0; stamp += 0.5) {
     e.stamp = stamp;
     const Transition t = next(life, e, kOptions);
@@ -328,6 +327,14 @@ TEST(ChildOfContainer, AHiddenChildCollectsNoAbsenceAndIsKept) {
     EXPECT_FALSE(t.remove);
     life = t.life;
   }
+  // The rays reach where it is held and pass it: taken out unseen, or never there.
+  e.sighting = Sighting::kMissing;
+  e.stamp = 10.0;
+  Transition t = next(life, e, kOptions);
+  EXPECT_DOUBLE_EQ(t.life.absent_since, 10.0);
+  EXPECT_FALSE(t.remove);
+  e.stamp = 10.0 + kOptions.remove_after_s;
+  EXPECT_TRUE(next(t.life, e, kOptions).remove);
   EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, kOptions),
                    kOptions.association_distance);
 }

@@ -139,12 +139,6 @@ struct Confirmation {
   static bool confirmed(const TrackLife& life, const LifecycleOptions& o);
 };
 
-// A child (in or on another track) is where its parent holds it: it keeps the narrow association
-// gate, its fits are not weighed by distance, and it gathers no evidence of absence.
-struct ChildOfContainer {
-  static bool collectsAbsence(bool child) { return !child; }
-};
-
 // A confirmed track whose fits explain less than research_below_fit_support of its rays closely
 // (fit closeness; in far, noisy depth a wrong turn still explains most rays within the noise)
 // may be turned: searched again, no sooner than orientation_search_interval_s after the last

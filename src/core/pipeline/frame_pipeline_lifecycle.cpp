@@ -156,8 +156,7 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
   // Evidence of absence of a coasting track, at the pose it coasts at.
   std::vector<std::size_t> coasting;
   for (std::size_t k : order)
-    if (uses[k] == FitUse::kCoast && ChildOfContainer::collectsAbsence(evidence[k].child))
-      coasting.push_back(k);
+    if (uses[k] == FitUse::kCoast) coasting.push_back(k);
   if (!coasting.empty()) scene_.commit();
   for (std::size_t k : coasting) {
     TrackEvidence& e = evidence[k];

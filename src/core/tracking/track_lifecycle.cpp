@@ -30,7 +30,8 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
 void coast(Transition& t, const TrackLife& before, const TrackEvidence& e,
            const LifecycleOptions& o) {
   TrackLife& life = t.life;
-  bool absent = ChildOfContainer::collectsAbsence(e.child) && e.sighting == Sighting::kMissing;
+  // A child as well: walls that hide it make its frames hidden, not missing.
+  bool absent = e.sighting == Sighting::kMissing;
   // The turn gate refused the fit but keeps the track in view: the measurements at the pose it
   // keeps support it as a taken fit's would (a track the gate keeps where an unknown thing stands
   // is contradicted as one whose fits are taken).
