@@ -216,6 +216,7 @@ class DatasetRenderer {
   }
 
   void render(std::size_t index, const fs::path& dir);
+  const std::vector<sgt::Symmetry>& labelSymmetries() const { return label_symmetry_; }
 
  private:
   Vector3d placeSupport(Rng& rng, double& top, Eigen::Vector2d& half, bool bench);
@@ -683,14 +684,12 @@ bool fromScenario(const Args& args, std::size_t index) {
 }
 
 std::unique_ptr<sgt::ScenarioImages> scenarioImages(const sgt::ObjectCatalog& catalog,
+                                                    const DatasetRenderer& renderer,
                                                     const Args& args) {
   if (args.scenarios.empty()) return nullptr;
-  std::vector<sgt::Symmetry> symmetry;
-  for (const auto& name : catalog.listed())
-    symmetry.push_back(sgt::detection::labelSymmetry(catalog.get(name), args.labels));
   return std::make_unique<sgt::ScenarioImages>(sgt::scenarioFiles(args.scenarios), catalog.listed(),
-                                               symmetry, args.labels, args.mesh_dir,
-                                               kMinVisiblePixels);
+                                               renderer.labelSymmetries(), args.labels,
+                                               args.mesh_dir, kMinVisiblePixels);
 }
 
 void renderScenarioImage(sgt::ScenarioImages& scenarios, const Args& args, std::size_t index,
@@ -762,7 +761,7 @@ int main(int argc, char** argv) {
     for (const char* sub : {"images", "labels", "poses"}) fs::create_directories(dir / sub);
     const sgt::ObjectCatalog catalog = sgt::loadObjectCatalog(args.catalog, args.mesh_dir);
     DatasetRenderer renderer(catalog, args);
-    std::unique_ptr<sgt::ScenarioImages> scenarios = scenarioImages(catalog, args);
+    std::unique_ptr<sgt::ScenarioImages> scenarios = scenarioImages(catalog, renderer, args);
     sgt::ProgressBar bar("render_dataset", args.count);
     for (std::size_t i = 0; i < args.count; ++i) {
       if (scenarios && fromScenario(args, i))

@@ -37,21 +37,21 @@ void writeLabelLine(std::ostream& txt, const PinholeModel& camera, const Dataset
   txt << '\n';
 }
 
-// Box and count of the pixels showing `node`.
-DatasetObject visibleBox(const SimulatedScan& scan, NodeId node) {
+}  // namespace
+
+DatasetObject visibleBox(const std::vector<NodeId>& nodes, int width, NodeId node) {
   DatasetObject o;
   o.x0 = o.y0 = 1 << 30, o.x1 = o.y1 = -1;
-  for (int v = 0; v < scan.height; ++v)
-    for (int u = 0; u < scan.width; ++u) {
-      if (scan.node[static_cast<std::size_t>(v) * scan.width + u] != node) continue;
-      ++o.visible_pixels;
-      o.x0 = std::min(o.x0, u), o.y0 = std::min(o.y0, v);
-      o.x1 = std::max(o.x1, u), o.y1 = std::max(o.y1, v);
-    }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i] != node) continue;
+    const int u = static_cast<int>(i % static_cast<std::size_t>(width));
+    const int v = static_cast<int>(i / static_cast<std::size_t>(width));
+    ++o.visible_pixels;
+    o.x0 = std::min(o.x0, u), o.y0 = std::min(o.y0, v);
+    o.x1 = std::max(o.x1, u), o.y1 = std::max(o.y1, v);
+  }
   return o;
 }
-
-}  // namespace
 
 std::string datasetFrameName(std::size_t index) {
   char name[32];
@@ -132,7 +132,7 @@ std::vector<DatasetObject> SequenceLabeller::label(const RgbdSequence::Frame& f)
       simulate(scene_, makeRays(sequence_.camera), Eigen::Isometry3d::Identity());
   std::vector<DatasetObject> out;
   for (std::size_t k = 0; k < node_name_.size(); ++k) {
-    DatasetObject o = visibleBox(scan, static_cast<NodeId>(k + 1));
+    DatasetObject o = visibleBox(scan.node, scan.width, static_cast<NodeId>(k + 1));
     if (o.visible_pixels < min_pixels_) continue;
     const std::string& name = node_name_[k];
     const ObjectClass& oc = catalog_.get(name);

@@ -13,28 +13,6 @@ namespace sgt {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// Per scenario object: its pixel count and the box of its pixels in `seen` (nodes, row-major).
-std::vector<DatasetObject> pixelBoxes(const std::vector<NodeId>& seen, int width,
-                                      std::size_t objects) {
-  std::vector<DatasetObject> boxes(objects);
-  for (auto& b : boxes) b.x0 = b.y0 = 1 << 30, b.x1 = b.y1 = -1;
-  const auto first = static_cast<std::size_t>(sim::ScenarioWorld::kFirstObjectNode);
-  for (std::size_t p = 0; p < seen.size(); ++p) {
-    const auto i = static_cast<std::size_t>(seen[p]) - first;
-    if (seen[p] == kNoNode || static_cast<std::size_t>(seen[p]) < first || i >= objects) continue;
-    DatasetObject& b = boxes[i];
-    const int u = static_cast<int>(p % static_cast<std::size_t>(width));
-    const int v = static_cast<int>(p / static_cast<std::size_t>(width));
-    ++b.visible_pixels, b.x0 = std::min(b.x0, u), b.y0 = std::min(b.y0, v),
-                        b.x1 = std::max(b.x1, u), b.y1 = std::max(b.y1, v);
-  }
-  return boxes;
-}
-
-}  // namespace
-
 std::vector<fs::path> scenarioFiles(const fs::path& dir) {
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir))
@@ -86,17 +64,14 @@ ScenarioImage ScenarioImages::render(std::size_t index, std::size_t count, std::
   load(std::min(files_.size() - 1, index * files_.size() / std::max<std::size_t>(count, 1)));
   std::mt19937 rng(static_cast<std::uint32_t>(seed * 2246822519u + index * 3266489917u + 7u));
   ScenarioImage image;
-  image.scenario = files_[loaded_].stem().string();
-  image.t = std::uniform_real_distribution<double>(0.0, scenario_->duration)(rng);
+  const double t = std::uniform_real_distribution<double>(0.0, scenario_->duration)(rng);
   image.camera = scenario_->camera.model;
-  const sim::CameraFrame f = world_->renderCamera(image.t, index);
+  const sim::CameraFrame f = world_->renderCamera(t, index);
   cv::cvtColor(cv::Mat(image.camera.height, image.camera.width, CV_8UC3,
                        const_cast<std::uint8_t*>(f.rgb.data())),
                image.bgr, cv::COLOR_RGB2BGR);
-  std::vector<DatasetObject> seen =
-      pixelBoxes(f.seen, image.camera.width, scenario_->objects.size());
-  for (std::size_t i = 0; i < seen.size(); ++i) {
-    DatasetObject& o = seen[i];
+  for (std::size_t i = 0; i < scenario_->objects.size(); ++i) {
+    DatasetObject o = visibleBox(f.seen, image.camera.width, world_->objectNode(i));
     if (o.visible_pixels < min_pixels_) continue;
     o.class_id = object_class_[i];
     o.class_name = classes_[o.class_id];

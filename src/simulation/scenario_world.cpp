@@ -186,13 +186,11 @@ CameraFrame ScenarioWorld::renderCamera(double t, std::uint64_t frame_index) {
 
   f.depth.assign(n, kNaN);
   f.labels.assign(n, kLabelNoReturn);
-  f.node.assign(n, kNoNode);
   f.seen = scan.node;
   f.visible_pixels.assign(s_.objects.size(), 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(m.range[i])) continue;
     f.depth[i] = m.range[i] * rays.directions[i].z();
-    f.node[i] = scan.node[i];
     f.labels[i] = labelOf(scan.node[i]);
     if (f.labels[i] == kLabelObject)
       ++f.visible_pixels[static_cast<std::size_t>(scan.node[i] - kFirstObjectNode)];

@@ -36,6 +36,10 @@ struct DatasetObject {
   Eigen::AlignedBox3d box;                                    // the class's cuboid
 };
 
+// Count and box (x0..y1) of the pixels of a row-major node image `width` wide that show `node`;
+// the other fields stay default.
+DatasetObject visibleBox(const std::vector<NodeId>& nodes, int width, NodeId node);
+
 // "000123" for 123.
 std::string datasetFrameName(std::size_t index);
 

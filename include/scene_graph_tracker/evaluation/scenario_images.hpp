@@ -30,8 +30,6 @@ struct ScenarioImage {
   cv::Mat bgr;  // 8UC3
   PinholeModel camera;
   std::vector<DatasetObject> objects;  // the objects with at least min_pixels seen
-  std::string scenario;                // its file's stem
-  double t = 0.0;                      // s into the scenario
 };
 
 // The scenario files of `dir`: every .yaml but generate_scenarios' index (scenarios.yaml), sorted.

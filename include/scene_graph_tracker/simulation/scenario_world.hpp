@@ -32,7 +32,6 @@ struct CameraFrame {
   std::vector<std::uint8_t> rgb;               // rgb8, width x height x 3
   std::vector<float> depth;                    // z in metres, NaN = no return (noisy)
   std::vector<std::uint8_t> labels;            // Label per pixel; kLabelNoReturn where depth is NaN
-  std::vector<NodeId> node;  // hit node per pixel where depth is valid, else kNoNode
   std::vector<NodeId> seen;  // node the RGB shows at each pixel, depth or not (kNoNode: none)
   std::vector<Eigen::Isometry3d> T_map_objects;  // per scenario object
   std::vector<int> visible_pixels;               // per scenario object: valid depth pixels on it
