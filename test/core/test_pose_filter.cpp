@@ -103,30 +103,6 @@ PickUp pickUp(double max_noise_scale) {
   return out;
 }
 
-TEST(PoseFilter, CarriedItMovesRigidlyAndKeepsItsUncertainty) {
-  // An object in a crate that a hand turns by 90 deg about z and moves 0.3 m.
-  PoseFilter f(truthAt(0), covariance(0.004, 0.0035));
-  for (int k = 1; k <= 30; ++k)
-    f.predict(1.0 / 30.0), f.update(truthAt(k / 30.0), covariance(0.004, 0.0035));
-  const Eigen::Vector3d v = f.velocity();
-  const PoseFilter::Mat6 before = f.poseCovariance();
-  Eigen::Isometry3d carry = Eigen::Isometry3d::Identity();
-  carry.linear() = Eigen::AngleAxisd(M_PI / 2.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  carry.translation() = Eigen::Vector3d(0.3, 0.0, 0.0);
-  const Eigen::Isometry3d target = carry * f.pose();
-  f.carryTo(target);
-  EXPECT_LT((f.pose().translation() - target.translation()).norm(), 1e-12);
-  EXPECT_LT(test::rotationErrorDeg(f.pose().linear(), target.linear()), 1e-6);
-  EXPECT_LT((f.velocity() - carry.linear() * v).norm(), 1e-12);  // turned with it
-  const PoseFilter::Mat6 after = f.poseCovariance();
-  // The same size (eigenvalues), turned: the x variance is now along y.
-  EXPECT_NEAR(after.trace(), before.trace(), 1e-12);
-  EXPECT_NEAR(after(1, 1), before(0, 0), 1e-12);
-  EXPECT_NEAR(after(0, 0), before(1, 1), 1e-12);
-  // The next measurement at the carried pose is no innovation.
-  EXPECT_LT(f.distance2(target, covariance(0.004, 0.0035)), 1e-12);
-}
-
 TEST(PoseFilter, AManoeuvreRaisesTheProcessNoiseUntilTheModelFollows) {
   const PickUp fixed = pickUp(1.0), adapted = pickUp(100.0);
   EXPECT_EQ(fixed.rest_scale, 1.0);

@@ -90,25 +90,28 @@ TEST(TurnGate, AnEstablishedTrackCoastsThroughAFitTurnedBeyondTheGate) {
   LifecycleOptions on = kOptions;
   on.fit_turn_gate = 16.27;
   // A track whose fits have explained 95 % of their rays; the turned fit explains 60 %.
-  const auto rejects = [&](TrackState s, RefineStatus status, double d2, double ratio = 0.6) {
+  const auto rejects = [&](TrackState s, bool child, RefineStatus status, double d2,
+                           double ratio = 0.6) {
     TrackLife life = confirmedLife(0.9);
     life.state = s;
-    return TurnGate::rejects(life, fit(status, 120, ratio), d2, on);
+    return TurnGate::rejects(life, child, fit(status, 120, ratio), d2, on);
   };
-  EXPECT_TRUE(rejects(TrackState::kConfirmed, RefineStatus::kOk, 17.0));
-  EXPECT_TRUE(rejects(TrackState::kLost, RefineStatus::kOk, 17.0));
-  EXPECT_FALSE(rejects(TrackState::kConfirmed, RefineStatus::kOk, 16.0));  // within
-  EXPECT_FALSE(rejects(TrackState::kTentative, RefineStatus::kOk, 1e6));   // not established
-  EXPECT_FALSE(rejects(TrackState::kConfirmed, RefineStatus::kTooFewPoints, 1e6));
+  EXPECT_TRUE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 17.0));
+  EXPECT_TRUE(rejects(TrackState::kLost, false, RefineStatus::kOk, 17.0));
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 16.0));  // within
+  EXPECT_FALSE(rejects(TrackState::kTentative, false, RefineStatus::kOk, 1e6));   // not established
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, true, RefineStatus::kOk, 1e6));    // a child
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kTooFewPoints, 1e6));
   // A turned fit that explains more of its rays than the track's fits did corrects the track.
-  EXPECT_FALSE(rejects(TrackState::kConfirmed, RefineStatus::kOk, 1e6, 0.99));
+  EXPECT_FALSE(rejects(TrackState::kConfirmed, false, RefineStatus::kOk, 1e6, 0.99));
   // ... closely: within the noise band alone (a far object in noisy depth) it does not.
   ObjectQuality banded = fit(RefineStatus::kOk, 120, 0.99);
   banded.close_ratio = 0.6;
-  EXPECT_TRUE(TurnGate::rejects(confirmedLife(0.9), banded, 1e6, on));
+  EXPECT_TRUE(TurnGate::rejects(confirmedLife(0.9), false, banded, 1e6, on));
   LifecycleOptions off = on;
   off.fit_turn_gate = 0.0;
-  EXPECT_FALSE(TurnGate::rejects(confirmedLife(0.9), fit(RefineStatus::kOk, 120, 0.6), 1e6, off));
+  EXPECT_FALSE(
+      TurnGate::rejects(confirmedLife(0.9), false, fit(RefineStatus::kOk, 120, 0.6), 1e6, off));
   // A rejected fit is no good fit: a confirmed track coasts and is lost.
   TrackEvidence e = goodFit(1.0);
   e.fit.status = RefineStatus::kImplausibleTurn;

@@ -8,8 +8,7 @@
 // map -> odom correction from localization and applies it to every sensor. Hypotheses come in the
 // base frame and are moved into the map with the corrected robot pose. Each track has a
 // constant-velocity Kalman filter; a child in the scene graph (in or on another track) is
-// predicted with its parent, keeping its pose relative to it: its filter is carried there
-// (PoseFilter::carryTo), so its fits and detections are weighed against that prediction.
+// predicted with its parent, keeping its pose relative to it.
 #pragma once
 
 #include <map>
@@ -225,7 +224,7 @@ class FramePipeline {
   bool dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets);
   bool sunkIntoMap(const std::string& class_name,
                    const Eigen::Isometry3d& T_map_object) const;  // max_sunk_fraction
-  // In or on another track (a scene-graph child): it moves with its parent.
+  // In or on another track (a scene-graph child): it moves with its parent, which cuts its fits.
   bool isChild(NodeId node) const { return graph_.node(node).parent != kWorldNode; }
   bool unsupported(const Track& t) const;      // FitSupport::unsupported
   bool placedByWeakFit(const Track& t) const;  // WeakFitPlacement, from its last fit

@@ -39,9 +39,6 @@ class PoseFilter {
   void predict(double dt);
   // Lets the velocities decay over `dt` (see PoseFilterNoise::coast_decay_s); for coasting.
   void damp(double dt);
-  // Moves the estimate rigidly to `T` (an object carried by what holds it): position and rotation
-  // become T's, velocities and the covariance turn with it, their size is kept.
-  void carryTo(const Eigen::Isometry3d& T);
   // A measured pose with its covariance ([translation, rotation] in the world frame). With a
   // symmetry, the symmetric twin of the measurement closest to the prediction is used, so a
   // crate seen turned by 180 deg does not spin the filter. Returns the squared Mahalanobis

@@ -111,16 +111,16 @@ struct LostTrackResume {
   static bool rejects(const TrackLife& life, const TrackEvidence& e, const LifecycleOptions& o);
 };
 
-// An established track (confirmed or lost; a child too: its prediction is where its parent holds
-// it) does not take a good fit whose rotation lies beyond fit_turn_gate of its predicted one
-// (squared Mahalanobis distance `turn_distance2`, prediction and fit noise): the motion model says
-// the object cannot have turned so far since the last frame, so the refiner has fitted a wrong turn
-// to a few rays. Unless the turned fit explains a larger share of its rays closely than the track's
-// fits have (close ratio against fit closeness): then the track was the wrong one (confirmed in a
-// wrong turn) and the fit corrects it.
+// An established track (confirmed or lost; not a child, which its parent moves) does not take a
+// good fit whose rotation lies beyond fit_turn_gate of its predicted one (squared Mahalanobis
+// distance `turn_distance2`, prediction and fit noise): the motion model says the object cannot
+// have turned so far since the last frame, so the refiner has fitted a wrong turn to a few rays.
+// Unless the turned fit explains a larger share of its rays closely than the track's fits have
+// (close ratio against fit closeness): then the track was the wrong one (confirmed in a wrong
+// turn) and the fit corrects it.
 struct TurnGate {
-  static bool rejects(const TrackLife& life, const ObjectQuality& fit, double turn_distance2,
-                      const LifecycleOptions& o);
+  static bool rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
+                      double turn_distance2, const LifecycleOptions& o);
 };
 
 // The running share of the rays reaching a track's model that its measurements agree with: at

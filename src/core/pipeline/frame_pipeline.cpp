@@ -199,8 +199,9 @@ void FramePipeline::refineTracks(const std::vector<RangeMeasurements>& sets, dou
                             .maxCoeff()));
       target.pull_radius = static_cast<float>(options_.pull_sigmas * sigma);
     }
-    // The fit weighs its rays against the track's prediction.
-    if (options_.refiner.prior_weight > 0.0) {
+    // The fit weighs its rays against the track's prediction (not a child's: its filter does not
+    // follow its parent).
+    if (options_.refiner.prior_weight > 0.0 && !isChild(t.out.node)) {
       target.T_prior = t.filter.pose();
       target.prior_information = t.filter.poseCovariance().inverse();
     }

@@ -21,14 +21,10 @@ void FramePipeline::predict(double stamp) {
     if (dt > 0.0) t.filter.predict(dt);
   }
   // A track under the world follows its filter; a child keeps its pose relative to its parent
-  // (moved just before it), so what is in or on a carried object is carried along, and its filter
-  // predicts it there.
+  // (moved just before it), so what is in or on a carried object is carried along.
   for (std::size_t k : parentsFirst()) {
     Track& t = tracks_[k];
-    if (isChild(t.out.node))
-      t.filter.carryTo(graph_.worldTransform(t.out.node));
-    else
-      graph_.setWorldTransform(t.out.node, t.filter.pose());
+    if (!isChild(t.out.node)) graph_.setWorldTransform(t.out.node, t.filter.pose());
     t.out.T_map_object = graph_.worldTransform(t.out.node);
     scene_.setInstancePose(t.out.node, t.out.T_map_object);
   }
@@ -110,9 +106,15 @@ void FramePipeline::fuseOrDispute(Track& t, const Eigen::Isometry3d& T_detected)
   if (!options_.fuse_hypotheses || t.contested_by) return;
   const auto C = diagonalCovariance(options_.hypothesis_sigma_m, options_.hypothesis_sigma_rad);
   const Symmetry* symmetry = &catalog_->get(t.out.class_name).symmetry;
-  if (t.filter.distance2(T_detected, C, symmetry) > kGate6Dof) return;
-  t.filter.update(T_detected, C, symmetry);
-  t.out.T_map_object = t.filter.pose();
+  // A child is where its parent holds it, not where its filter predicts: the detection corrects
+  // that pose, with the filter's uncertainty.
+  PoseFilter at_pose = isChild(t.out.node) ? PoseFilter(t.out.T_map_object,
+                                                        t.filter.poseCovariance(), options_.motion)
+                                           : t.filter;
+  if (at_pose.distance2(T_detected, C, symmetry) > kGate6Dof) return;
+  at_pose.update(T_detected, C, symmetry);
+  if (!isChild(t.out.node)) t.filter = at_pose;
+  t.out.T_map_object = at_pose.pose();
   scene_.setInstancePose(t.out.node, t.out.T_map_object);
   graph_.setWorldTransform(t.out.node, t.out.T_map_object);
 }

@@ -95,7 +95,7 @@ bool FramePipeline::turnedBeyondGate(const Track& t, const TrackEvidence& e,
   const double d2 = t.filter.turnDistance2(
       T_fit, diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad),
       &catalog_->get(t.out.class_name).symmetry);
-  return TurnGate::rejects(t.life, e.fit, d2, lo);
+  return TurnGate::rejects(t.life, e.child, e.fit, d2, lo);
 }
 
 TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
@@ -121,12 +121,13 @@ TrackEvidence FramePipeline::applyFit(std::size_t k, const ObjectEstimate& fit,
       break;
     case FitUse::kUpdate: {
       // A fit from few points or from far away is a weaker measurement, and the track reports
-      // the filtered pose rather than that fit.
-      const double weak = fitWeakness(o, sets);
+      // the filtered pose rather than that fit. Not for a child: its filter does not follow its
+      // parent's motion.
+      const double weak = e.child ? 1.0 : fitWeakness(o, sets);
       const auto C0 = diagonalCovariance(options_.refined_sigma_m, options_.refined_sigma_rad);
       PoseFilter::Mat6 C = C0 * weak;
       bool loose = false;
-      if (options_.fit_point_sigma_m > 0.0) {
+      if (options_.fit_point_sigma_m > 0.0 && !e.child) {
         const auto C_rays = fitCovariance(fit.quality.information, options_.fit_point_sigma_m,
                                           symmetryAxes(*symmetry, fit.T_world_object));
         C += C_rays;

@@ -60,15 +60,6 @@ void PoseFilter::damp(double dt) {
   P_ = D * P_ * D.transpose();
 }
 
-void PoseFilter::carryTo(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d turn = T.linear() * R_.transpose();
-  p_ = T.translation(), R_ = T.linear();
-  v_ = turn * v_, w_ = turn * w_;
-  Mat12 A = Mat12::Zero();
-  for (int i = 0; i < 12; i += 3) A.block<3, 3>(i, i) = turn;
-  P_ = A * P_ * A.transpose();
-}
-
 Eigen::Matrix<double, 6, 1> PoseFilter::innovation(const Eigen::Isometry3d& T,
                                                    const Symmetry* symmetry) const {
   Eigen::Matrix<double, 6, 1> r;

@@ -77,9 +77,9 @@ bool LostTrackResume::rejects(const TrackLife& life, const TrackEvidence& e,
           e.fit.inlier_ratio < o.lost_track_resume_inlier_ratio);
 }
 
-bool TurnGate::rejects(const TrackLife& life, const ObjectQuality& fit, double turn_distance2,
-                       const LifecycleOptions& o) {
-  return o.fit_turn_gate > 0.0 && life.state != TrackState::kTentative &&
+bool TurnGate::rejects(const TrackLife& life, bool child, const ObjectQuality& fit,
+                       double turn_distance2, const LifecycleOptions& o) {
+  return o.fit_turn_gate > 0.0 && life.state != TrackState::kTentative && !child &&
          fit.status == RefineStatus::kOk && turn_distance2 > o.fit_turn_gate &&
          fit.close_ratio <= life.fit_closeness;
 }
