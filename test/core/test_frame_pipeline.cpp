@@ -391,6 +391,70 @@ TEST(FramePipeline, ATrackSeenMissingWhereItHoversDropsOutOfSightAndStays) {
       << "without the drop the track must go (else no test)";
 }
 
+// A multimeter carried 0.35 m above the bench is confirmed; then it is put down and the camera,
+// come closer, looks down at the bench, so the place where its track hovers is out of view (no
+// ray reaches it) and nothing is detected any more. With unseen_drop_m beyond the lift, the track
+// drops onto the bench under it, where the multimeter lies; without, it hovers on. Returns the
+// track's distance from the multimeter at the end (m) and whether the second view leaves the
+// hover place out and shows the multimeter (else no test).
+std::pair<double, bool> multimeterPutDownOutOfItsTracksView(double unseen_drop_m) {
+  const auto bench = test::benchScene();
+  const std::size_t meter = std::find(bench->classes.begin(), bench->classes.end(), "multimeter") -
+                            bench->classes.begin();
+  RaycastScene& world = *bench->world;
+  const Eigen::Isometry3d T_down = bench->truth[meter];
+  Eigen::Isometry3d T_up = T_down;
+  T_up.translation().z() += 0.35;
+  const auto [T_map_base, T_far] = test::facingTheBench(*bench, 2.0);
+  const Eigen::Isometry3d T_near =
+      opticalLookAt(T_down.translation() + Eigen::Vector3d(0.0, 0.5, 0.5),
+                    T_down.translation() + Eigen::Vector3d(0.0, 0.15, 0.0));
+  const PinholeModel cam = PinholeModel::xtion();
+  const auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  std::vector<SimulatedScan> scans;
+  for (const auto& [T_object, T_camera] : {std::pair{T_up, T_far}, std::pair{T_down, T_near}}) {
+    world.setInstancePose(test::BenchScene::objectNode(meter), T_object);
+    world.commit();
+    scans.push_back(simulate(world, *rays, T_camera));
+  }
+  const Eigen::Isometry3d T_camera_up = T_near.inverse() * T_up;
+  const auto inImage = [&](const Eigen::Vector3d& p) {
+    const auto uv = cam.project(p);
+    return uv && uv->x() >= 0 && uv->y() >= 0 && uv->x() < cam.width && uv->y() < cam.height;
+  };
+  bool valid = std::any_of(scans[1].node.begin(), scans[1].node.end(),
+                           [&](NodeId n) { return n == test::BenchScene::objectNode(meter); });
+  const Eigen::AlignedBox3d box = bench->catalog->get("multimeter").box.cast<double>();
+  for (int c = 0; c < 8; ++c)
+    valid = valid &&
+            !inImage(T_camera_up * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+  PipelineOptions options;
+  options.localize = false;
+  options.unseen_drop_m = unseen_drop_m;
+  FramePipeline pipeline(bench->catalog, bench->map, options);
+  double error = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < 75; ++f) {  // carried for 1 s, then put down and seen from near for 1.5 s
+    const bool up = f < 30;
+    PipelineFrame frame = test::depthFrame(f, T_map_base, cam, rays, scans[up ? 0 : 1],
+                                           up ? T_far : T_near, 0.0015, 500 + f);
+    if (up) frame.hypotheses.push_back({"multimeter", T_map_base.inverse() * T_up, 0.9});
+    error = std::numeric_limits<double>::infinity();
+    for (const TrackedObject& o : pipeline.process(frame).objects)
+      if (o.class_name == "multimeter" && o.state != TrackState::kTentative)
+        error = (o.T_map_object.translation() - T_down.translation()).norm();
+  }
+  return {error, valid};
+}
+
+TEST(FramePipeline, ATrackHoveringOutOfViewDropsOntoWhatLiesBelow) {
+  const auto [error, valid] = multimeterPutDownOutOfItsTracksView(PipelineOptions().unseen_drop_m);
+  ASSERT_TRUE(valid) << "the near view must leave the hover place out and show the multimeter";
+  EXPECT_LT(error, 0.02) << "m, the track on the bench";
+  const double hovering = multimeterPutDownOutOfItsTracksView(0.0).first;
+  EXPECT_GT(hovering, 0.3) << "without the drop the track must hover on (else no test)";
+  EXPECT_LT(hovering, 0.4);
+}
+
 // A detector keeps reporting a relay on the floor behind the robot, out of the camera's view, so
 // no ray can tell whether it is there. Resting on the floor, its track stays;
 // sunk 4 cm into the floor it is nowhere a real object can be and goes after

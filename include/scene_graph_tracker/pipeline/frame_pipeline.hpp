@@ -217,7 +217,7 @@ class FramePipeline {
   // few reach it or other tracks hide more of it.
   Sighting sight(std::size_t k, const std::vector<RangeMeasurements>& sets,
                  double* agreement = nullptr);
-  // Track k, seen absent where it coasts, dropped straight down (world -z) by up to
+  // Track k, seen absent where it coasts or out of view, dropped straight down (world -z) by up to
   // unseen_drop_m onto what lies below it: when the sensors cannot see it missing there (it went
   // down into a container, behind a wall), it stays there with a restarted filter. Returns
   // whether it moved. frame_pipeline_visibility.cpp.

@@ -113,10 +113,12 @@ struct PipelineOptions {
   // counts against absence as one beyond it counts for it. 0: only rays within the fit's last
   // threshold count against absence.
   double absence_noise_sigmas = 3.0;
-  // A coasting track the sensors see missing where it is drops straight down by up to this onto
-  // what lies below it, and stays there when they cannot see it missing there: an object let go
-  // into a container vanishes below its rim before it reaches the floor. 0: off.
-  double unseen_drop_m = 0.3;
+  // A coasting track the sensors see missing where it is, or cannot see at all (out of view),
+  // drops straight down by up to this onto what lies below it, and stays there when they cannot
+  // see it missing there: an object let go into a container vanishes below its rim before it
+  // reaches the floor, and one put down fast leaves its track hovering where the hand was,
+  // often above the camera's view. Up to a hand's carrying height above a bench. 0: off.
+  double unseen_drop_m = 0.5;
   // A lost track ignores fits farther than this from where it was lost, or explaining less than
   // this fraction of the rays that reach it, until a hypothesis restarts it (associate():
   // reacquire_distance); such fits are no evidence of absence either.

@@ -163,8 +163,11 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
     const bool gated = e.fit.status == RefineStatus::kImplausibleTurn;
     e.sighting = sight(k, sets, gated ? &e.coast_agreement : nullptr);
     // Dropped out of sight: what the rays showed where it was says nothing of where it is now.
-    if (e.sighting == Sighting::kMissing && options_.unseen_drop_m > 0.0 &&
-        dropsOutOfSight(k, sets))
+    // A track that no ray reaches (out of view) drops too: nothing seen holds it in the air.
+    const bool missing = e.sighting == Sighting::kMissing;
+    const bool unreached = e.fit.status == RefineStatus::kNotVisible;
+    if ((missing || unreached) && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets) &&
+        missing)
       e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
   }
   for (std::size_t k : order)
