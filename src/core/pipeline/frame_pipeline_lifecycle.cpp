@@ -162,13 +162,14 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
     TrackEvidence& e = evidence[k];
     const bool gated = e.fit.status == RefineStatus::kImplausibleTurn;
     e.sighting = sight(k, sets, gated ? &e.coast_agreement : nullptr);
-    // Dropped out of sight: what the rays showed where it was says nothing of where it is now.
-    // A track that no ray reaches (out of view) drops too: nothing seen holds it in the air.
+    // A track seen missing, or that no ray reaches (out of view), drops: nothing seen holds it in
+    // the air. Dropped, what the rays showed where it was says nothing of where it is now; an
+    // unreached one stays hidden.
     const bool missing = e.sighting == Sighting::kMissing;
     const bool unreached = e.fit.status == RefineStatus::kNotVisible;
-    if ((missing || unreached) && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets) &&
-        missing)
-      e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
+    const bool dropped =
+        (missing || unreached) && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets);
+    if (dropped && missing) e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
   }
   for (std::size_t k : order)
     evidence[k].sunk =
