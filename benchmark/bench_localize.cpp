@@ -5,7 +5,9 @@
 // - BM_Presegment: both sensors of the frame with things the tracker does not know in view (a
 //   person beside the bench, a box on the bench, two boxes on the floor); counters: reduction of
 //   the VLP-16 scan (share of its valid points that are explained, the paper's 86 %), and
-//   precision / recall of the unknown label over both sensors against the simulation's owners.
+//   precision / recall of the unknown label over both sensors against the simulation's owners,
+//   rays cast over both sensors. BM_PresegmentCastEveryRay: the same without the depth image's
+//   ranges from the map's planes (PresegmentOptions::map_planes).
 #include <benchmark/benchmark.h>
 
 #include "paper_scene.hpp"
@@ -49,7 +51,7 @@ void BM_LocalizeScan(benchmark::State& state) {
 }
 BENCHMARK(BM_LocalizeScan)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_Presegment(benchmark::State& state) {
+void presegmentFrame(benchmark::State& state, bool map_planes) {
   static PaperScene s = makePaperScene();
   const Eigen::Vector3d top = s.building.workbench_top_centre.cast<double>();
   std::vector<NodeId> unknown;
@@ -81,8 +83,11 @@ void BM_Presegment(benchmark::State& state) {
   s.scene->commit();
 
   std::vector<Presegmentation> result(2);
+  PresegmentOptions options;
+  options.map_planes = map_planes;
   for (auto _ : state)
-    for (std::size_t k = 0; k < frame.size(); ++k) result[k] = presegment(*s.scene, frame[k]);
+    for (std::size_t k = 0; k < frame.size(); ++k)
+      result[k] = presegment(*s.scene, frame[k], options);
 
   std::size_t tp = 0, fp = 0, fn = 0;
   const SimulatedScan* truth[2] = {&cam, &lidar};
@@ -93,6 +98,7 @@ void BM_Presegment(benchmark::State& state) {
       const bool said = result[k].label[i] == PointLabel::kUnknown;
       tp += is && said, fp += !is && said, fn += is && !said;
     }
+  state.counters["rays_cast"] = static_cast<double>(result[0].rays_cast + result[1].rays_cast);
   state.counters["reduction"] = result[1].counts.reduction();
   state.counters["lidar_valid"] = static_cast<double>(result[1].counts.valid());
   state.counters["lidar_unknown"] = static_cast<double>(result[1].counts.unknown);
@@ -102,7 +108,10 @@ void BM_Presegment(benchmark::State& state) {
   for (const NodeId n : unknown) s.scene->removeInstance(n);
   s.scene->commit();
 }
+void BM_Presegment(benchmark::State& state) { presegmentFrame(state, true); }
+void BM_PresegmentCastEveryRay(benchmark::State& state) { presegmentFrame(state, false); }
 BENCHMARK(BM_Presegment)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PresegmentCastEveryRay)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace sgt::bench

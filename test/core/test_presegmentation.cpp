@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/segmentation/predicted_ranges.hpp"
 #include "scene_graph_tracker/segmentation/presegmentation.hpp"
 #include "scene_graph_tracker/simulation/building.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
@@ -141,6 +142,43 @@ TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
   ASSERT_GT(through_panel, 50u);
   EXPECT_EQ(behind, through_panel);
   EXPECT_EQ(p.counts.behind, behind);
+}
+
+// The depth image's predicted ranges taken from the map's planes where blocks of pixels see one
+// agree with a cast per ray, at a fraction of the rays cast; the known box and the distractors
+// (enabled: the tracker's scene has them) are cast ray by ray.
+TEST_F(PresegmentationTest, RangesFromTheMapsPlanesAgreeWithACastPerRay) {
+  const PinholeModel cam = PinholeModel::xtion();
+  const SensorRays rays = makeRays(cam);
+  const Eigen::Vector3d eye = base_ + Eigen::Vector3d(0, 0, 1.2);
+  const Eigen::Isometry3d T = opticalLookAt(eye, base_ + Eigen::Vector3d(2.0, -0.4, 0.4));
+  const RangeMeasurements m = fromDepthImage(cam, std::make_shared<SensorRays>(rays),
+                                             std::vector<float>(rays.size(), 1.0f), T);
+  RayHits every, planes;
+  EXPECT_EQ(predictRanges(scene_, m, every, false), rays.size());
+  const std::size_t cast = predictRanges(scene_, m, planes, true);
+  std::size_t hit = 0, same_node = 0, within_mm = 0, objects = 0, objects_same = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (!every.hit(i)) {
+      EXPECT_FALSE(planes.hit(i)) << "ray " << i;
+      continue;
+    }
+    ++hit;
+    same_node += planes.node[i] == every.node[i];
+    within_mm += std::abs(planes.range[i] - every.range[i]) < 1e-3f;
+    if (every.node[i] == kMap) continue;
+    ++objects;
+    objects_same += planes.node[i] == every.node[i] && planes.range[i] == every.range[i];
+  }
+  std::printf(
+      "rays cast %zu of %zu; of %zu rays that hit (%zu objects) %zu on the same node, %zu within 1 "
+      "mm\n",
+      cast, rays.size(), hit, objects, same_node, within_mm);
+  ASSERT_GT(objects, 3000u);
+  EXPECT_LT(cast, rays.size() / 2);  // a fifth of the rays see the boxes
+  EXPECT_EQ(objects_same, objects);  // the objects' rays are cast
+  EXPECT_GE(static_cast<double>(same_node) / hit, 0.999);
+  EXPECT_GE(static_cast<double>(within_mm) / hit, 0.999);
 }
 
 TEST(Presegmentation, InvalidAndEmptyInput) {

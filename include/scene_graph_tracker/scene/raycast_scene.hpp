@@ -131,6 +131,8 @@ class RaycastScene {
   void removeInstance(NodeId node);
   // A disabled instance is invisible to rays (e.g. to ask what lies behind an object).
   void setInstanceEnabled(NodeId node, bool enabled);
+  // The nodes whose instances rays can hit now (the static map's among them).
+  std::vector<NodeId> enabledInstances() const;
   bool hasInstance(NodeId node) const { return slot_of_node_.count(node) > 0; }
   std::size_t instanceCount() const { return slot_of_node_.size(); }
   Eigen::Isometry3d instancePose(NodeId node) const;
@@ -157,6 +159,7 @@ class RaycastScene {
   struct Slot {
     NodeId node = kNoNode;
     MeshId mesh = -1;
+    bool enabled = true;
     Eigen::Matrix3f R = Eigen::Matrix3f::Identity();  // for normals
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   };

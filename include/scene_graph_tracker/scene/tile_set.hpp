@@ -55,6 +55,10 @@ class TileSet {
   // Keeps only the rays for which keep(ray_index) holds; tiles left without a ray go.
   template <typename Keep>
   void keepRays(const SensorRays& rays, Keep&& keep);
+  // Keeps of each tile only the lanes set in lanes(tile) (a mask, bit k: lane k); tiles left
+  // without a lane go.
+  template <typename Lanes>
+  void keepLanes(Lanes&& lanes);
   // Calls f(ray_index) for every ray of the covered tiles.
   template <typename F>
   void forEachRay(const SensorRays& rays, F&& f) const {
@@ -80,13 +84,23 @@ void TileSet::forTile(const SensorRays& rays, std::size_t b, F&& f) const {
 
 template <typename Keep>
 void TileSet::keepRays(const SensorRays& rays, Keep&& keep) {
+  keepLanes([&](const Tile& t) {
+    std::uint16_t kept = 0;
+    forTile(rays, static_cast<std::size_t>(&t - tiles_.data()), [&](int k, std::size_t i) {
+      if (keep(i)) kept |= static_cast<std::uint16_t>(1u << k);
+    });
+    return kept;
+  });
+}
+
+template <typename Lanes>
+void TileSet::keepLanes(Lanes&& lanes_of) {
   std::vector<std::uint16_t> lanes(tiles_.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles_.size(), 64),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t b = r.begin(); b != r.end(); ++b)
-                        forTile(rays, b, [&](int k, std::size_t i) {
-                          if (keep(i)) lanes[b] |= static_cast<std::uint16_t>(1u << k);
-                        });
+                        lanes[b] =
+                            static_cast<std::uint16_t>(tiles_[b].lanes & lanes_of(tiles_[b]));
                     });
   std::size_t kept_tiles = 0;
   rays_ = 0;

@@ -3,11 +3,11 @@
 // points are what a later detector should look at (the paper: a VLP-16 scan went from 25,287
 // points to 3,515, -86 %).
 //
-// Each measurement's ray is cast in full into the scene at the current estimates and its range r
-// compared with the predicted range p: |r - p| <= tolerance(p) (from the sensor's noise) -> the
-// hit's owner (map or object); r < p - tolerance -> unknown (something stands in front of what the
-// tracker knows); r > p + tolerance -> behind (the map changed, e.g. a door was opened); no
-// predicted hit -> unknown.
+// Each measurement's range r is compared with the range p that the scene at the current estimates
+// predicts along its ray (cast, or on a plane of the static map its neighbours' casts found): |r -
+// p| <= tolerance(p) (from the sensor's noise) -> the hit's owner (map or object); r < p -
+// tolerance -> unknown (something stands in front of what the tracker knows); r > p + tolerance ->
+// behind (the map changed, e.g. a door was opened); no predicted hit -> unknown.
 #pragma once
 
 #include <vector>
@@ -28,6 +28,9 @@ struct PresegmentOptions {
   float sigma_factor = 3.0f;
   float min_tolerance = 0.02f;
   RangeNoise noise;
+  // On a depth image, the predicted ranges of blocks of 4 x 4 pixels that see one plane of the
+  // static map come from that plane instead of a cast per ray (segmentation/predicted_ranges.hpp).
+  bool map_planes = true;
 };
 
 struct LabelCounts {
@@ -44,6 +47,7 @@ struct Presegmentation {
   std::vector<Eigen::Vector3f> unknown_points;  // world frame
   std::vector<std::uint32_t> unknown_rays;      // ray index of each unknown point
   LabelCounts counts;
+  std::size_t rays_cast = 0;  // rays cast to predict the ranges
 };
 
 // Hits of the scene's static map node count as map, hits of any other instance as object.

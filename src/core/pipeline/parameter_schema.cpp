@@ -472,6 +472,10 @@ Schema<T> presegmentationParams() {
       number<T>("presegmentation/range_sigma", kPresegmentation,
                 PIPE(presegmentation.noise.range_sigma), 0.0, 1.0, "m", kRuntime,
                 "LiDAR range noise"),
+      flag<T>("presegmentation/map_planes", kPresegmentation, PIPE(presegmentation.map_planes),
+              kRuntime,
+              "depth pixels whose 4 x 4 block sees one plane of the map take their predicted "
+              "range from that plane, not from a cast of their own"),
   };
 }
 

@@ -266,7 +266,15 @@ void RaycastScene::removeInstance(NodeId node) {
 void RaycastScene::setInstanceEnabled(NodeId node, bool enabled) {
   RTCGeometry geom = rtcGetGeometry(top_, slotFor(node));
   enabled ? rtcEnableGeometry(geom) : rtcDisableGeometry(geom);
+  slots_[slotFor(node)].enabled = enabled;
   dirty_ = true;
+}
+
+std::vector<NodeId> RaycastScene::enabledInstances() const {
+  std::vector<NodeId> out;
+  for (const Slot& s : slots_)
+    if (s.node != kNoNode && s.enabled) out.push_back(s.node);
+  return out;
 }
 
 Eigen::Isometry3d RaycastScene::instancePose(NodeId node) const { return slots_[slotFor(node)].T; }

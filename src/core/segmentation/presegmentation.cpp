@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "scene_graph_tracker/segmentation/predicted_ranges.hpp"
+
 namespace sgt {
 
 const char* toString(PointLabel l) {
@@ -31,8 +33,8 @@ Presegmentation presegment(const RaycastScene& scene, const RangeMeasurements& m
   if (n == 0) return out;
   const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
   RayHits& hits = *lease;
-  // Every ray, so no stale hit is read; only what was hit where.
-  scene.cast(*m.rays, m.T_world_sensor, hits, nullptr, {}, kRangeAndNodeOnly);
+  out.rays_cast =
+      predictRanges(scene, m, hits, options.map_planes);  // every ray, so no stale hit is read
   const NodeId map = scene.staticMapNode();
   const RangeTolerance tolerance(m, options.min_tolerance, options.noise, options.sigma_factor);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {

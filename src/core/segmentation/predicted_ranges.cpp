@@ -1,0 +1,175 @@
+#include "scene_graph_tracker/segmentation/predicted_ranges.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include "scene_graph_tracker/registration/ray_regions.hpp"
+
+namespace sgt {
+namespace {
+
+constexpr float kPlaneTolerance = 1e-3f;  // m: a corner's hit off the first corner's plane
+constexpr float kNormalCos = 0.9998f;     // about 1.1 deg between the corners' normals
+constexpr float kMinIncidence = 0.05f;    // |cos| of a corner ray to the plane's normal
+constexpr float kObjectMargin = 0.01f;    // m around an object's box: its hits' rounding
+
+// Blocks of 4 x 4 pixels, the cast's tiles; block (bx, by) spans pixels [4 bx, 4 (bx + 1)] in x
+// and likewise in y, corners included (neighbours share their edges).
+struct BlockGrid {
+  static constexpr int size = 4;
+  int cols, rows;
+  explicit BlockGrid(const SensorRays& rays)
+      : cols((rays.width - 1) / size), rows((rays.height - 1) / size) {}
+  std::size_t count() const { return static_cast<std::size_t>(cols) * rows; }
+  bool unfilled(const std::vector<char>& filled, int bx, int by) const {
+    return !filled[static_cast<std::size_t>(by) * cols + bx];
+  }
+};
+
+// The blocks whose rays may see an enabled object instance (every instance but the static map).
+std::vector<char> blocksNearObjects(const RaycastScene& scene, const RangeMeasurements& m,
+                                    const BlockGrid& g) {
+  std::vector<ObjectExtent> objects;
+  for (const NodeId n : scene.enabledInstances())
+    if (n != scene.staticMapNode())
+      objects.push_back({scene.instancePose(n), scene.meshBox(scene.instanceMesh(n))});
+  std::vector<char> near(g.count(), 0);
+  for (const GridRect& r : raysNearObjects(m, objects, kObjectMargin)) {
+    const int bx1 = std::min(g.cols - 1, (r.x1 - 1) / g.size);
+    const int by1 = std::min(g.rows - 1, (r.y1 - 1) / g.size);
+    for (int by = std::max(0, (r.y0 - 1) / g.size); by <= by1; ++by)
+      for (int bx = std::max(0, (r.x0 - 1) / g.size); bx <= bx1; ++bx)
+        near[static_cast<std::size_t>(by) * g.cols + bx] = 1;
+  }
+  return near;
+}
+
+std::array<std::size_t, 4> cornersOf(const SensorRays& rays, const BlockGrid& g, int bx, int by) {
+  const int x = bx * g.size, y = by * g.size;
+  return {static_cast<std::size_t>(rays.index(x, y)),
+          static_cast<std::size_t>(rays.index(x + g.size, y)),
+          static_cast<std::size_t>(rays.index(x, y + g.size)),
+          static_cast<std::size_t>(rays.index(x + g.size, y + g.size))};
+}
+
+// Whether the four corner rays hit the static map on one plane that each meets well off grazing.
+bool seesOnePlane(const RayHits& h, const std::array<std::size_t, 4>& c, NodeId map,
+                  const SensorRays& rays, const Eigen::Matrix3f& R) {
+  const Eigen::Vector3f& n = h.normal[c[0]];
+  for (const std::size_t i : c) {
+    if (h.node[i] != map || h.normal[i].dot(n) < kNormalCos) return false;
+    if (std::abs(n.dot(h.point[i] - h.point[c[0]])) > kPlaneTolerance) return false;
+    if (-n.dot(R * rays.directions[i]) < kMinIncidence) return false;  // normals face the rays
+  }
+  return true;
+}
+
+// Ranges on the plane its corners see for the pixels a block owns: [size bx, size (bx + 1)) in x
+// and y, the last block of a row or column up to its far edge; its corners keep their cast.
+void fillFromPlane(const SensorRays& rays, const BlockGrid& g, int bx, int by,
+                   const Eigen::Vector3f& origin, const Eigen::Matrix3f& R, NodeId map,
+                   const std::array<std::size_t, 4>& c, RayHits& h) {
+  const Eigen::Vector3f& n = h.normal[c[0]];
+  const float offset = n.dot(h.point[c[0]] - origin);
+  const Eigen::Vector3f n_sensor = R.transpose() * n;
+  const int x1 = (bx + 1) * g.size - (bx + 1 < g.cols ? 1 : 0);
+  const int y1 = (by + 1) * g.size - (by + 1 < g.rows ? 1 : 0);
+  for (int y = by * g.size; y <= y1; ++y)
+    for (int x = bx * g.size; x <= x1; ++x) {
+      if (x % g.size == 0 && y % g.size == 0) continue;
+      const std::size_t i = static_cast<std::size_t>(rays.index(x, y));
+      h.range[i] = offset / n_sensor.dot(rays.directions[i]);
+      h.node[i] = map;
+    }
+}
+
+// The blocks whose closed span holds pixel coordinate v: one, or two on a shared edge.
+std::pair<int, int> blocksAt(int v, int size, int count) {
+  const int b = v / size;
+  return {std::max(0, v % size == 0 ? b - 1 : b), std::min(b, count - 1)};
+}
+
+// Whether pixel (x, y) is cast ray by ray: beyond the whole blocks, or in a block not filled from
+// a plane. The corners are cast on their own.
+bool castAlone(int x, int y, const BlockGrid& g, const std::vector<char>& filled) {
+  if (x > g.cols * g.size || y > g.rows * g.size) return true;
+  if (x % g.size == 0 && y % g.size == 0) return false;
+  const auto [bx0, bx1] = blocksAt(x, g.size, g.cols);
+  const auto [by0, by1] = blocksAt(y, g.size, g.rows);
+  for (int by = by0; by <= by1; ++by)
+    for (int bx = bx0; bx <= bx1; ++bx)
+      if (g.unfilled(filled, bx, by)) return true;
+  return false;
+}
+
+// The lanes of the tile of pixels [4 tx, 4 tx + 3] x [4 ty, 4 ty + 3] to cast (castAlone): inside
+// the blocks, those of its own block if that is not filled, else the shared left column and top
+// row where the neighbour there is not filled; never the corner.
+std::uint16_t lanesToCast(const SensorRays& rays, const TileSet::Tile& t, const BlockGrid& g,
+                          const std::vector<char>& filled) {
+  const int tx = t.x0 / g.size, ty = t.y0 / g.size;
+  if (tx == 0 || ty == 0 || tx >= g.cols || ty >= g.rows) {
+    std::uint16_t lanes = 0;
+    for (int k = 0; k < 16; ++k)
+      if (t.x0 + k % 4 < rays.width && t.y0 + k / 4 < rays.height &&
+          castAlone(t.x0 + k % 4, t.y0 + k / 4, g, filled))
+        lanes |= static_cast<std::uint16_t>(1u << k);
+    return lanes;
+  }
+  if (g.unfilled(filled, tx, ty)) return 0xfffe;
+  constexpr std::uint16_t kLeftColumn = 0x1110, kTopRow = 0x000e;
+  return static_cast<std::uint16_t>((g.unfilled(filled, tx - 1, ty) ? kLeftColumn : 0) |
+                                    (g.unfilled(filled, tx, ty - 1) ? kTopRow : 0));
+}
+
+// The blocks whose corners see one plane of the map and whose rays cannot see an object.
+std::vector<char> planarBlocks(const RaycastScene& scene, const RangeMeasurements& m,
+                               const BlockGrid& g, const RayHits& corner_hits) {
+  const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
+  const std::vector<char> near = blocksNearObjects(scene, m, g);
+  std::vector<char> filled(g.count(), 0);
+  tbb::parallel_for(0, g.rows, [&](int by) {
+    for (int bx = 0; bx < g.cols; ++bx) {
+      const std::size_t b = static_cast<std::size_t>(by) * g.cols + bx;
+      filled[b] = !near[b] && seesOnePlane(corner_hits, cornersOf(*m.rays, g, bx, by),
+                                           scene.staticMapNode(), *m.rays, R);
+    }
+  });
+  return filled;
+}
+
+}  // namespace
+
+std::size_t predictRanges(const RaycastScene& scene, const RangeMeasurements& m, RayHits& hits,
+                          bool from_planes) {
+  const SensorRays& rays = *m.rays;
+  const bool blocks = from_planes && std::holds_alternative<PinholeModel>(m.model) &&
+                      rays.origins.empty() && scene.staticMapNode() != kNoNode &&
+                      rays.width > BlockGrid::size && rays.height > BlockGrid::size;
+  if (!blocks) {
+    scene.cast(rays, m.T_world_sensor, hits, nullptr, {}, kRangeAndNodeOnly);
+    return rays.size();
+  }
+  const BlockGrid g(rays);
+  TileSet corners =
+      TileSet::sampled(rays, {{GridRect{0, 0, rays.width, rays.height}, BlockGrid::size}});
+  scene.cast(rays, m.T_world_sensor, hits, &corners, {}, kHitPoint | kHitNormal);
+  const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
+  const Eigen::Vector3f origin = m.T_world_sensor.translation().cast<float>();
+  const std::vector<char> filled = planarBlocks(scene, m, g, hits);
+  tbb::parallel_for(0, g.rows, [&](int by) {
+    for (int bx = 0; bx < g.cols; ++bx)
+      if (filled[static_cast<std::size_t>(by) * g.cols + bx])
+        fillFromPlane(rays, g, bx, by, origin, R, scene.staticMapNode(), cornersOf(rays, g, bx, by),
+                      hits);
+  });
+  TileSet rest = TileSet::all(rays);
+  rest.keepLanes([&](const TileSet::Tile& t) { return lanesToCast(rays, t, g, filled); });
+  scene.cast(rays, m.T_world_sensor, hits, &rest, {}, kRangeAndNodeOnly);
+  return corners.rayCount() + rest.rayCount();
+}
+
+}  // namespace sgt
