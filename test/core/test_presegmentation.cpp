@@ -147,18 +147,16 @@ TEST_F(PresegmentationTest, MeasurementsBehindARemovedPanelAreLabelledBehind) {
 // The depth image's predicted ranges taken from the map's planes where blocks of pixels see one
 // agree with a cast per ray, at a fraction of the rays cast; the known box and the distractors
 // (enabled: the tracker's scene has them) are cast ray by ray.
-TEST_F(PresegmentationTest, RangesFromTheMapsPlanesAgreeWithACastPerRay) {
-  const PinholeModel cam = PinholeModel::xtion();
-  const SensorRays rays = makeRays(cam);
-  const Eigen::Vector3d eye = base_ + Eigen::Vector3d(0, 0, 1.2);
-  const Eigen::Isometry3d T = opticalLookAt(eye, base_ + Eigen::Vector3d(2.0, -0.4, 0.4));
-  const RangeMeasurements m = fromDepthImage(cam, std::make_shared<SensorRays>(rays),
-                                             std::vector<float>(rays.size(), 1.0f), T);
+// Ranges taken from the map's planes where blocks of rays see one agree with a cast per ray, at a
+// fraction of the rays cast; the known box and the distractors (enabled: the tracker's scene has
+// them) are cast ray by ray. Returns the rays cast.
+std::size_t expectRangesFromPlanesAgree(const RaycastScene& scene, const RangeMeasurements& m,
+                                        std::size_t min_object_rays) {
   RayHits every, planes;
-  EXPECT_EQ(predictRanges(scene_, m, every, false), rays.size());
-  const std::size_t cast = predictRanges(scene_, m, planes, true);
+  EXPECT_EQ(predictRanges(scene, m, every, false), m.size());
+  const std::size_t cast = predictRanges(scene, m, planes, true);
   std::size_t hit = 0, same_node = 0, within_mm = 0, objects = 0, objects_same = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
+  for (std::size_t i = 0; i < m.size(); ++i) {
     if (!every.hit(i)) {
       EXPECT_FALSE(planes.hit(i)) << "ray " << i;
       continue;
@@ -171,14 +169,31 @@ TEST_F(PresegmentationTest, RangesFromTheMapsPlanesAgreeWithACastPerRay) {
     objects_same += planes.node[i] == every.node[i] && planes.range[i] == every.range[i];
   }
   std::printf(
-      "rays cast %zu of %zu; of %zu rays that hit (%zu objects) %zu on the same node, %zu within 1 "
-      "mm\n",
-      cast, rays.size(), hit, objects, same_node, within_mm);
-  ASSERT_GT(objects, 3000u);
-  EXPECT_LT(cast, rays.size() / 2);  // a fifth of the rays see the boxes
+      "rays cast %zu of %zu; of %zu rays that hit (%zu objects) %zu on the same node, %zu "
+      "within 1 mm\n",
+      cast, m.size(), hit, objects, same_node, within_mm);
+  EXPECT_GT(objects, min_object_rays);
   EXPECT_EQ(objects_same, objects);  // the objects' rays are cast
   EXPECT_GE(static_cast<double>(same_node) / hit, 0.999);
   EXPECT_GE(static_cast<double>(within_mm) / hit, 0.999);
+  return cast;
+}
+
+TEST_F(PresegmentationTest, DepthRangesFromTheMapsPlanesAgreeWithACastPerRay) {
+  const PinholeModel cam = PinholeModel::xtion();
+  auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  const Eigen::Vector3d eye = base_ + Eigen::Vector3d(0, 0, 1.2);
+  const Eigen::Isometry3d T = opticalLookAt(eye, base_ + Eigen::Vector3d(2.0, -0.4, 0.4));
+  const RangeMeasurements m = fromDepthImage(cam, rays, std::vector<float>(rays->size(), 1.0f), T);
+  EXPECT_LT(expectRangesFromPlanesAgree(scene_, m, 3000), m.size() / 2);  // a fifth see boxes
+}
+
+TEST_F(PresegmentationTest, LidarRangesAreCastRayByRay) {
+  auto rays = std::make_shared<SensorRays>(makeRays(SpinningLidarModel::vlp16()));
+  const Eigen::Isometry3d T = test::poseXyzYaw(base_ + Eigen::Vector3d(0, 0, 0.9));
+  const RangeMeasurements m =
+      fromRanges(SpinningLidarModel::vlp16(), rays, std::vector<float>(rays->size(), 1.0f), T);
+  EXPECT_EQ(expectRangesFromPlanesAgree(scene_, m, 300), m.size());  // every ray cast
 }
 
 TEST(Presegmentation, InvalidAndEmptyInput) {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "scene_graph_tracker/registration/ray_regions.hpp"
@@ -81,8 +82,10 @@ void fillFromPlane(const SensorRays& rays, const BlockGrid& g, int bx, int by,
     for (int x = bx * g.size; x <= x1; ++x) {
       if (x % g.size == 0 && y % g.size == 0) continue;
       const std::size_t i = static_cast<std::size_t>(rays.index(x, y));
-      h.range[i] = offset / n_sensor.dot(rays.directions[i]);
-      h.node[i] = map;
+      const float r = offset / n_sensor.dot(rays.directions[i]);
+      const bool within = r >= rays.range_min && r <= rays.range_max;  // as a cast would end
+      h.range[i] = within ? r : std::numeric_limits<float>::infinity();
+      h.node[i] = within ? map : kNoNode;
     }
 }
 
