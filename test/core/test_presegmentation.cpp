@@ -196,6 +196,28 @@ TEST_F(PresegmentationTest, LidarRangesAreCastRayByRay) {
   EXPECT_EQ(expectRangesFromPlanesAgree(scene_, m, 300), m.size());  // every ray cast
 }
 
+// A desk as the whole map (as a real sequence's plane) and a box on it, seen from above its far
+// edge: blocks whose corners miss everything predict no hit, and agree with a cast per ray.
+TEST(Presegmentation, RangesWhereBlocksSeeNothingAgreeWithACastPerRay) {
+  RaycastScene scene;
+  scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({1.2f, 0.8f, 0.02f})), kMap);
+  scene.addInstance(kTracked,
+                    scene.addMesh(std::make_shared<TriangleMesh>(makeBox({0.1f, 0.1f, 0.1f}))),
+                    test::poseXyzYaw({0.2, 0.1, 0.06}));
+  scene.commit();
+  const PinholeModel cam = PinholeModel::xtion();
+  auto rays = std::make_shared<SensorRays>(makeRays(cam));
+  const Eigen::Isometry3d T = opticalLookAt({-0.9, 0.0, 0.5}, {0.5, 0.0, 0.0});
+  const RangeMeasurements m = fromDepthImage(cam, rays, std::vector<float>(rays->size(), 1.0f), T);
+  const std::size_t cast = expectRangesFromPlanesAgree(scene, m, 300);
+  RayHits every;
+  scene.cast(*rays, T, every, nullptr, {}, kRangeAndNodeOnly);
+  std::size_t missing = 0;
+  for (std::size_t i = 0; i < rays->size(); ++i) missing += !every.hit(i);
+  ASSERT_GT(missing, rays->size() / 4);  // the desk's far edge is in view
+  EXPECT_LT(cast, rays->size() / 3);
+}
+
 TEST(Presegmentation, InvalidAndEmptyInput) {
   RaycastScene scene;
   scene.setStaticMap(std::make_shared<TriangleMesh>(makeBox({10, 10, 0.1f})), kMap);

@@ -6,7 +6,8 @@
 // top), where a ray's predicted range follows from its neighbours'. So on a depth image's grid of
 // rays from one centre, rays are cast every 4th pixel in x and y first. A block of 4 x 4 pixels
 // whose four corner rays hit the static map on one plane, and whose rays cannot meet the box of an
-// enabled object instance, takes its other rays' ranges from that plane; every other ray is cast.
+// enabled object instance, takes its other rays' ranges from that plane; one whose corners hit
+// nothing (beyond a map's edge) predicts no hit; every other ray is cast.
 // Seen from one centre, the rays between four corner rays meet the corners' plane inside the
 // corners' quadrilateral, so the plane's range is the scene's unless a part of the map smaller than
 // the block stands in front of that plane between the corners. A spinning LiDAR's blocks are too

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -68,13 +69,17 @@ bool seesOnePlane(const RayHits& h, const std::array<std::size_t, 4>& c, NodeId 
   return true;
 }
 
-// Ranges on the plane its corners see for the pixels a block owns: [size bx, size (bx + 1)) in x
-// and y, the last block of a row or column up to its far edge; its corners keep their cast.
-void fillFromPlane(const SensorRays& rays, const BlockGrid& g, int bx, int by,
-                   const Eigen::Vector3f& origin, const Eigen::Matrix3f& R, NodeId map,
-                   const std::array<std::size_t, 4>& c, RayHits& h) {
+// How a block's rays other than its corners get their ranges: cast, from the plane its corners
+// see, or none (its corners see nothing: no part of the map the size of a block is in it).
+enum BlockFill : char { kCast = 0, kPlane = 1, kEmpty = 2 };
+
+// Ranges for the pixels a block owns ([size bx, size (bx + 1)) in x and y, the last block of a row
+// or column up to its far edge) as its fill says; its corners keep their cast.
+void fillBlock(const SensorRays& rays, const BlockGrid& g, int bx, int by, BlockFill fill,
+               const Eigen::Vector3f& origin, const Eigen::Matrix3f& R, NodeId map,
+               const std::array<std::size_t, 4>& c, RayHits& h) {
   const Eigen::Vector3f& n = h.normal[c[0]];
-  const float offset = n.dot(h.point[c[0]] - origin);
+  const float offset = fill == kPlane ? n.dot(h.point[c[0]] - origin) : 0.0f;
   const Eigen::Vector3f n_sensor = R.transpose() * n;
   const int x1 = (bx + 1) * g.size - (bx + 1 < g.cols ? 1 : 0);
   const int y1 = (by + 1) * g.size - (by + 1 < g.rows ? 1 : 0);
@@ -82,7 +87,7 @@ void fillFromPlane(const SensorRays& rays, const BlockGrid& g, int bx, int by,
     for (int x = bx * g.size; x <= x1; ++x) {
       if (x % g.size == 0 && y % g.size == 0) continue;
       const std::size_t i = static_cast<std::size_t>(rays.index(x, y));
-      const float r = offset / n_sensor.dot(rays.directions[i]);
+      const float r = fill == kPlane ? offset / n_sensor.dot(rays.directions[i]) : -1.0f;
       const bool within = r >= rays.range_min && r <= rays.range_max;  // as a cast would end
       h.range[i] = within ? r : std::numeric_limits<float>::infinity();
       h.node[i] = within ? map : kNoNode;
@@ -128,20 +133,25 @@ std::uint16_t lanesToCast(const SensorRays& rays, const TileSet::Tile& t, const 
                                     (g.unfilled(filled, tx, ty - 1) ? kTopRow : 0));
 }
 
-// The blocks whose corners see one plane of the map and whose rays cannot see an object.
-std::vector<char> planarBlocks(const RaycastScene& scene, const RangeMeasurements& m,
-                               const BlockGrid& g, const RayHits& corner_hits) {
+// Each block's fill: from a plane where its corners see one of the map, none where they see
+// nothing; cast where its rays may see an object, or its corners see more than one surface.
+std::vector<char> blockFills(const RaycastScene& scene, const RangeMeasurements& m,
+                             const BlockGrid& g, const RayHits& corner_hits) {
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const std::vector<char> near = blocksNearObjects(scene, m, g);
-  std::vector<char> filled(g.count(), 0);
+  std::vector<char> fills(g.count(), kCast);
   tbb::parallel_for(0, g.rows, [&](int by) {
     for (int bx = 0; bx < g.cols; ++bx) {
       const std::size_t b = static_cast<std::size_t>(by) * g.cols + bx;
-      filled[b] = !near[b] && seesOnePlane(corner_hits, cornersOf(*m.rays, g, bx, by),
-                                           scene.staticMapNode(), *m.rays, R);
+      const auto c = cornersOf(*m.rays, g, bx, by);
+      if (near[b]) continue;
+      if (std::none_of(c.begin(), c.end(), [&](std::size_t i) { return corner_hits.hit(i); }))
+        fills[b] = kEmpty;
+      else if (seesOnePlane(corner_hits, c, scene.staticMapNode(), *m.rays, R))
+        fills[b] = kPlane;
     }
   });
-  return filled;
+  return fills;
 }
 
 }  // namespace
@@ -162,12 +172,12 @@ std::size_t predictRanges(const RaycastScene& scene, const RangeMeasurements& m,
   scene.cast(rays, m.T_world_sensor, hits, &corners, {}, kHitPoint | kHitNormal);
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f origin = m.T_world_sensor.translation().cast<float>();
-  const std::vector<char> filled = planarBlocks(scene, m, g, hits);
+  const std::vector<char> filled = blockFills(scene, m, g, hits);
   tbb::parallel_for(0, g.rows, [&](int by) {
     for (int bx = 0; bx < g.cols; ++bx)
-      if (filled[static_cast<std::size_t>(by) * g.cols + bx])
-        fillFromPlane(rays, g, bx, by, origin, R, scene.staticMapNode(), cornersOf(rays, g, bx, by),
-                      hits);
+      if (const char f = filled[static_cast<std::size_t>(by) * g.cols + bx]; f != kCast)
+        fillBlock(rays, g, bx, by, static_cast<BlockFill>(f), origin, R, scene.staticMapNode(),
+                  cornersOf(rays, g, bx, by), hits);
   });
   TileSet rest = TileSet::all(rays);
   rest.keepLanes([&](const TileSet::Tile& t) { return lanesToCast(rays, t, g, filled); });
