@@ -26,8 +26,9 @@ struct BlockGrid {
   explicit BlockGrid(const SensorRays& rays)
       : cols((rays.width - 1) / size), rows((rays.height - 1) / size) {}
   std::size_t count() const { return static_cast<std::size_t>(cols) * rows; }
-  bool unfilled(const std::vector<char>& filled, int bx, int by) const {
-    return !filled[static_cast<std::size_t>(by) * cols + bx];
+  // Whether block (bx, by)'s rays are cast (its fill is 0, kCast).
+  bool casts(const std::vector<char>& fills, int bx, int by) const {
+    return fills[static_cast<std::size_t>(by) * cols + bx] == 0;
   }
 };
 
@@ -78,8 +79,9 @@ enum BlockFill : char { kCast = 0, kPlane = 1, kEmpty = 2 };
 void fillBlock(const SensorRays& rays, const BlockGrid& g, int bx, int by, BlockFill fill,
                const Eigen::Vector3f& origin, const Eigen::Matrix3f& R, NodeId map,
                const std::array<std::size_t, 4>& c, RayHits& h) {
-  const Eigen::Vector3f& n = h.normal[c[0]];
-  const float offset = fill == kPlane ? n.dot(h.point[c[0]] - origin) : 0.0f;
+  const bool plane = fill == kPlane;  // else kEmpty: the corners' normals are not theirs
+  const Eigen::Vector3f n = plane ? h.normal[c[0]] : Eigen::Vector3f::UnitZ();
+  const float offset = plane ? n.dot(h.point[c[0]] - origin) : 0.0f;
   const Eigen::Vector3f n_sensor = R.transpose() * n;
   const int x1 = (bx + 1) * g.size - (bx + 1 < g.cols ? 1 : 0);
   const int y1 = (by + 1) * g.size - (by + 1 < g.rows ? 1 : 0);
@@ -87,7 +89,7 @@ void fillBlock(const SensorRays& rays, const BlockGrid& g, int bx, int by, Block
     for (int x = bx * g.size; x <= x1; ++x) {
       if (x % g.size == 0 && y % g.size == 0) continue;
       const std::size_t i = static_cast<std::size_t>(rays.index(x, y));
-      const float r = fill == kPlane ? offset / n_sensor.dot(rays.directions[i]) : -1.0f;
+      const float r = plane ? offset / n_sensor.dot(rays.directions[i]) : -1.0f;
       const bool within = r >= rays.range_min && r <= rays.range_max;  // as a cast would end
       h.range[i] = within ? r : std::numeric_limits<float>::infinity();
       h.node[i] = within ? map : kNoNode;
@@ -101,43 +103,46 @@ std::pair<int, int> blocksAt(int v, int size, int count) {
 }
 
 // Whether pixel (x, y) is cast ray by ray: beyond the whole blocks, or in a block not filled from
-// a plane. The corners are cast on their own.
-bool castAlone(int x, int y, const BlockGrid& g, const std::vector<char>& filled) {
+// a plane or found empty. The corners are cast on their own.
+bool castAlone(int x, int y, const BlockGrid& g, const std::vector<char>& fills) {
   if (x > g.cols * g.size || y > g.rows * g.size) return true;
   if (x % g.size == 0 && y % g.size == 0) return false;
   const auto [bx0, bx1] = blocksAt(x, g.size, g.cols);
   const auto [by0, by1] = blocksAt(y, g.size, g.rows);
   for (int by = by0; by <= by1; ++by)
     for (int bx = bx0; bx <= bx1; ++bx)
-      if (g.unfilled(filled, bx, by)) return true;
+      if (g.casts(fills, bx, by)) return true;
   return false;
 }
 
 // The lanes of the tile of pixels [4 tx, 4 tx + 3] x [4 ty, 4 ty + 3] to cast (castAlone): inside
-// the blocks, those of its own block if that is not filled, else the shared left column and top
-// row where the neighbour there is not filled; never the corner.
+// the blocks, those of its own block if that is cast, else the shared left column and top row where
+// the neighbour there is cast; never the corner.
 std::uint16_t lanesToCast(const SensorRays& rays, const TileSet::Tile& t, const BlockGrid& g,
-                          const std::vector<char>& filled) {
+                          const std::vector<char>& fills) {
   const int tx = t.x0 / g.size, ty = t.y0 / g.size;
   if (tx == 0 || ty == 0 || tx >= g.cols || ty >= g.rows) {
     std::uint16_t lanes = 0;
     for (int k = 0; k < 16; ++k)
       if (t.x0 + k % 4 < rays.width && t.y0 + k / 4 < rays.height &&
-          castAlone(t.x0 + k % 4, t.y0 + k / 4, g, filled))
+          castAlone(t.x0 + k % 4, t.y0 + k / 4, g, fills))
         lanes |= static_cast<std::uint16_t>(1u << k);
     return lanes;
   }
-  if (g.unfilled(filled, tx, ty)) return 0xfffe;
+  if (g.casts(fills, tx, ty)) return 0xfffe;
   constexpr std::uint16_t kLeftColumn = 0x1110, kTopRow = 0x000e;
-  return static_cast<std::uint16_t>((g.unfilled(filled, tx - 1, ty) ? kLeftColumn : 0) |
-                                    (g.unfilled(filled, tx, ty - 1) ? kTopRow : 0));
+  return static_cast<std::uint16_t>((g.casts(fills, tx - 1, ty) ? kLeftColumn : 0) |
+                                    (g.casts(fills, tx, ty - 1) ? kTopRow : 0));
 }
 
-// Each block's fill: from a plane where its corners see one of the map, none where they see
-// nothing; cast where its rays may see an object, or its corners see more than one surface.
-std::vector<char> blockFills(const RaycastScene& scene, const RangeMeasurements& m,
-                             const BlockGrid& g, const RayHits& corner_hits) {
+// Decides each block's fill and fills it: from a plane where its corners see one of the map, none
+// where they see nothing; cast where its rays may see an object, or its corners see more than one
+// surface. A fill writes only the block's own pixels, never a corner, so blocks go in parallel.
+std::vector<char> fillBlocks(const RaycastScene& scene, const RangeMeasurements& m,
+                             const BlockGrid& g, RayHits& hits) {
   const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
+  const Eigen::Vector3f origin = m.T_world_sensor.translation().cast<float>();
+  const NodeId map = scene.staticMapNode();
   const std::vector<char> near = blocksNearObjects(scene, m, g);
   std::vector<char> fills(g.count(), kCast);
   tbb::parallel_for(0, g.rows, [&](int by) {
@@ -145,10 +150,12 @@ std::vector<char> blockFills(const RaycastScene& scene, const RangeMeasurements&
       const std::size_t b = static_cast<std::size_t>(by) * g.cols + bx;
       const auto c = cornersOf(*m.rays, g, bx, by);
       if (near[b]) continue;
-      if (std::none_of(c.begin(), c.end(), [&](std::size_t i) { return corner_hits.hit(i); }))
+      if (std::none_of(c.begin(), c.end(), [&](std::size_t i) { return hits.hit(i); }))
         fills[b] = kEmpty;
-      else if (seesOnePlane(corner_hits, c, scene.staticMapNode(), *m.rays, R))
+      else if (seesOnePlane(hits, c, map, *m.rays, R))
         fills[b] = kPlane;
+      if (fills[b] != kCast)
+        fillBlock(*m.rays, g, bx, by, static_cast<BlockFill>(fills[b]), origin, R, map, c, hits);
     }
   });
   return fills;
@@ -170,17 +177,9 @@ std::size_t predictRanges(const RaycastScene& scene, const RangeMeasurements& m,
   TileSet corners =
       TileSet::sampled(rays, {{GridRect{0, 0, rays.width, rays.height}, BlockGrid::size}});
   scene.cast(rays, m.T_world_sensor, hits, &corners, {}, kHitPoint | kHitNormal);
-  const Eigen::Matrix3f R = m.T_world_sensor.linear().cast<float>();
-  const Eigen::Vector3f origin = m.T_world_sensor.translation().cast<float>();
-  const std::vector<char> filled = blockFills(scene, m, g, hits);
-  tbb::parallel_for(0, g.rows, [&](int by) {
-    for (int bx = 0; bx < g.cols; ++bx)
-      if (const char f = filled[static_cast<std::size_t>(by) * g.cols + bx]; f != kCast)
-        fillBlock(rays, g, bx, by, static_cast<BlockFill>(f), origin, R, scene.staticMapNode(),
-                  cornersOf(rays, g, bx, by), hits);
-  });
+  const std::vector<char> fills = fillBlocks(scene, m, g, hits);
   TileSet rest = TileSet::all(rays);
-  rest.keepLanes([&](const TileSet::Tile& t) { return lanesToCast(rays, t, g, filled); });
+  rest.keepLanes([&](const TileSet::Tile& t) { return lanesToCast(rays, t, g, fills); });
   scene.cast(rays, m.T_world_sensor, hits, &rest, {}, kRangeAndNodeOnly);
   return corners.rayCount() + rest.rayCount();
 }
