@@ -264,9 +264,10 @@ void RaycastScene::removeInstance(NodeId node) {
 }
 
 void RaycastScene::setInstanceEnabled(NodeId node, bool enabled) {
-  RTCGeometry geom = rtcGetGeometry(top_, slotFor(node));
+  const unsigned slot = slotFor(node);
+  RTCGeometry geom = rtcGetGeometry(top_, slot);
   enabled ? rtcEnableGeometry(geom) : rtcDisableGeometry(geom);
-  slots_[slotFor(node)].enabled = enabled;
+  slots_[slot].enabled = enabled;
   dirty_ = true;
 }
 
