@@ -66,9 +66,11 @@ struct PipelineOptions {
   double fit_support_weight = 0.25;
   double min_fit_support = 0.65;
   // A track whose model lies partly inside the static map is nowhere a real object can be:
-  // when more than max_sunk_fraction of its surface samples are deeper than sink_tolerance_m
-  // behind the map's surface (its triangles' winding side), for remove_after_s, it goes, seen or
-  // not: the map hides such a track from every ray, so no other evidence of absence reaches it.
+  // when more than max_sunk_fraction of its mesh's vertices (every k-th, up to about 64) are
+  // deeper than sink_tolerance_m behind the map's surface (its triangles' winding side), for
+  // remove_after_s, it goes, seen or not: the map hides such a track from every ray, so no other
+  // evidence of absence reaches it. Vertices crowd where a shape has detail, so they are not
+  // shares of its surface; samples spread by area did worse (doc/experiments.md section 56).
   // Needs a map mesh wound outwards (or towards where it was scanned from); 1 turns it off.
   double max_sunk_fraction = 0.2;
   double sink_tolerance_m = 0.01;

@@ -236,9 +236,8 @@ Schema<T> removalParams() {
                 "the id of a confirmed track that goes waits this long for the next detection of "
                 "its class that no track takes (0: off)"),
       number<T>("max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
-                "share of a model surface deeper than sink_tolerance_m inside the static map that "
-                "removes the track "
-                "(1: off; needs an outward-wound map)"),
+                "share of a model's vertices (up to about 64) deeper than sink_tolerance_m inside "
+                "the static map that removes the track (1: off; needs an outward-wound map)"),
       number<T>("sink_tolerance_m", kRemoval, PIPE(sink_tolerance_m), 0.0, 0.5, "m", kRuntime,
                 "depth behind the map surface that counts as sunk"),
       number<T>("unseen_drop_m", kRemoval, PIPE(unseen_drop_m), 0.0, 1.0, "m", kRuntime,
