@@ -235,9 +235,10 @@ Schema<T> removalParams() {
       number<T>("unlocated_keep_s", kRemoval, PIPE(unlocated_keep_s), 0.0, 3600.0, "s", kRuntime,
                 "the id of a confirmed track that goes waits this long for the next detection of "
                 "its class that no track takes (0: off)"),
-      number<T>("max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
-                "share of a model's vertices (up to about 64) deeper than sink_tolerance_m inside "
-                "the static map that removes the track (1: off; needs an outward-wound map)"),
+      number<T>(
+          "max_sunk_fraction", kRemoval, PIPE(max_sunk_fraction), 0.0, 1.0, "", kRuntime,
+          "share of the vertices of a model (up to about 64) deeper than sink_tolerance_m inside "
+          "the static map that removes the track (1: off; needs an outward-wound map)"),
       number<T>("sink_tolerance_m", kRemoval, PIPE(sink_tolerance_m), 0.0, 0.5, "m", kRuntime,
                 "depth behind the map surface that counts as sunk"),
       number<T>("unseen_drop_m", kRemoval, PIPE(unseen_drop_m), 0.0, 1.0, "m", kRuntime,
