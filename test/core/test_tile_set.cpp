@@ -70,7 +70,9 @@ TEST(TileSet, PhasesShiftTheGridBelowTheStride) {
 
 // A 20 cm box 0.6 m in front of a VGA camera fills a region of tens of thousands of pixels. The
 // bound counts that region's rays until the rays that reach the object are known; then those: an
-// object that shows 200 rays keeps its stride, one that shows 5,000 is sampled at 16.
+// object that shows 200 rays keeps its stride, one that shows 5,000 (at stride 2: 20,000 cells) is
+// sampled at 9, the smallest stride at which it shows at most 300 (20,000 / 81 = 247), not at the
+// next power of two (16: 78 rays).
 TEST(SampleRaysNearObjects, TheBoundCountsTheRaysThatReachTheObjectWhereKnown) {
   const PinholeModel cam = PinholeModel::xtion();
   const auto rays = std::make_shared<SensorRays>(makeRays(cam));
@@ -92,7 +94,8 @@ TEST(SampleRaysNearObjects, TheBoundCountsTheRaysThatReachTheObjectWhereKnown) {
   ASSERT_GT(region, 16 * 300) << "the region's rays at stride 2";
   EXPECT_GE(strideFor(-1.0), 8) << "unknown: the region's rays are bounded";
   EXPECT_EQ(strideFor(200.0), 2);
-  EXPECT_EQ(strideFor(5000.0), 16);
+  EXPECT_EQ(strideFor(5000.0), 9);
+  EXPECT_EQ(strideFor(4800.0), 8) << "at the bound: 19,200 / 64 = 300";
   RaySampling unbounded;
   unbounded.stride = 2;
   EXPECT_EQ(sampleRaysNearObjects(m, {box}, unbounded).regions.at(0).stride, 2) << "no bound";

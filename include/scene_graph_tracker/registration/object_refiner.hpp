@@ -42,9 +42,10 @@ struct RefinerOptions {
   int ray_stride = 2;
   bool full_resolution_last_round = true;
   // The sampled rounds cast at most about this many depth-image rays near each object (0: no
-  // bound): a near object's region is sampled at 2, 4, 8... times ray_stride instead, so its cost
-  // does not grow with its pixel count. Its quality counts (inliers, expected, information) weigh
-  // each cast ray by the rays it stands for, so they do not depend on the sampling.
+  // bound): a near object's region is sampled at the coarser stride that brings it down to about
+  // that many, so its cost does not grow with its pixel count. Its quality counts (inliers,
+  // expected, information) weigh each cast ray by the rays it stands for, so they do not depend on
+  // the sampling.
   int max_rays_per_object = 0;
   // Each sampled round shifts its ray grid by an offset below the stride (TileSet::sampled's
   // phase), so successive rounds cast different rays and the grid's aliasing of the object's

@@ -26,8 +26,9 @@ struct RaySampling {
   float margin_m = 0.0f;                        // each box grows by this on every side ...
   const std::vector<float>* margins = nullptr;  // ... or, when given, by its own (per object)
   int stride = 1;                               // every stride-th ray in x and y
-  // A depth image (pinhole) object's region is coarsened by powers of two until it holds at most
-  // this many rays (0: no bound), so that a near object costs what a far one does.
+  // A depth image (pinhole) object's region is sampled at the smallest stride (any integer, not
+  // only powers of two) at which it holds at most this many rays (0: no bound), so that a near
+  // object costs what a far one does and the count stays near the bound.
   int max_rays = 0;
   const std::vector<char>* skip = nullptr;  // objects whose entry is set get no region
   // Per object, how many rays of the `stride` sampling reach it (negative: unknown): where known,

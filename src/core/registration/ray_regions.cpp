@@ -143,7 +143,10 @@ ObjectSampling sampleRaysNearObjects(const RangeMeasurements& m,
     // the region's: an object mostly hidden keeps the rays its few visible pixels give.
     const double known = sampling.on_object ? (*sampling.on_object)[k] : -1.0;
     const double cells = known >= 0.0 ? known * base * base : static_cast<double>(area);
-    while (bounded && cells > static_cast<double>(max_rays) * s * s) s *= 2;
+    // The smallest stride whose grid holds at most max_rays of the cells: between powers of two
+    // the count would fall by up to 4x at a threshold (an object just past it lost the fit's rays).
+    if (bounded && cells > static_cast<double>(max_rays) * s * s)
+      s = static_cast<int>(std::ceil(std::sqrt(cells / static_cast<double>(max_rays))));
     for (const GridRect& r : rects) out.regions.push_back({r, s});
     const float f = static_cast<float>(s) / static_cast<float>(base);
     out.weight.push_back(f * f);
