@@ -86,6 +86,28 @@ class SuiteCompareTest(unittest.TestCase):
             self.assertIn('1 up, 1 down, 1 within 0.005', text)
             self.assertIn('| relay | 400 | 0.800 -> 0.850 |', text)
 
+    def test_pairs_of_other_seeds_are_pooled_by_their_base_directory(self):
+        with tempfile.TemporaryDirectory() as root:
+            def one(name, recall, frames):
+                return write_suite(root, name, {'s1': report(recall, [('klt', frames, recall,
+                                                                       0, 0, 0)])})
+            runs = [one('seed1_base', 0.5, 100), one('seed1_other', 0.6, 100),
+                    one('seed2_base', 0.9, 300), one('seed2_other', 0.8, 300)]
+            base, other, empty = suite_compare.load_pairs(runs)
+            self.assertIsNone(empty)
+            self.assertEqual(sorted(base), ['seed1_base/s1', 'seed2_base/s1'])
+            result = suite_compare.paired(base, other, 'objects.recall_add_or_adds_10', 0.005)
+            self.assertEqual((result['up'], result['down']), (1, 1))
+            self.assertAlmostEqual(result['mean_change'], 0.0)
+            self.assertAlmostEqual(suite_compare.by_class(other, sorted(base))['klt']['recall'],
+                                   (100 * 0.6 + 300 * 0.8) / 400)
+            out = os.path.join(root, 'cmp.md')
+            self.assertEqual(suite_compare.main(runs + ['--output', out]), 0)
+            with open(out) as f:
+                self.assertIn('| seed2_base/s1 | 0.900 | 0.800 | -0.100 |', f.read())
+            with self.assertRaises(SystemExit):  # an odd count is not pairs
+                suite_compare.main(runs[:3])
+
     def test_an_empty_run_is_an_error(self):
         with tempfile.TemporaryDirectory() as root:
             base = write_suite(root, 'base', {'s1': report(0.5, [])})
