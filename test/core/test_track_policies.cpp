@@ -335,7 +335,7 @@ TEST(Removal, AChildHiddenByItsContainerStaysAndOneSeenMissingGoes) {
   EXPECT_FALSE(t.remove);
   e.stamp = 10.0 + kOptions.remove_after_s;
   EXPECT_TRUE(next(t.life, e, kOptions).remove);
-  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, kOptions),
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, true, t.life, kOptions),
                    kOptions.association_distance);
 }
 
@@ -433,10 +433,28 @@ TEST(PositionDispute, DetectionsPlacedBeyondTheTracksGateInARowContestItsPositio
 }
 
 TEST(DetectionAssociation, GatesAndRestarts) {
-  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, kOptions),
+  const TrackLife lost = [] {
+    TrackLife l = confirmedLife(0.0);
+    l.state = TrackState::kLost;
+    return l;
+  }();
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kOk, false, lost, kOptions),
                    kOptions.association_distance);
-  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kTooFewPoints, false, kOptions),
+  // Rays reached it and found no fit: it may have moved.
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kTooFewPoints, false, lost, kOptions),
                    kOptions.reacquire_distance);
+  // No ray reached it (out of view, wholly hidden): it is where it was, unless seen missing there
+  // before or only a detection placed it.
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, false, lost, kOptions),
+                   kOptions.association_distance);
+  TrackLife missing = lost;
+  missing.absent_since = 1.0;
+  EXPECT_DOUBLE_EQ(DetectionAssociation::gate(RefineStatus::kNotVisible, false, missing, kOptions),
+                   kOptions.reacquire_distance);
+  TrackLife tentative;
+  EXPECT_DOUBLE_EQ(
+      DetectionAssociation::gate(RefineStatus::kNotVisible, false, tentative, kOptions),
+      kOptions.reacquire_distance);
   EXPECT_FALSE(DetectionAssociation::restarts(RefineStatus::kOk, false));
   EXPECT_TRUE(DetectionAssociation::restarts(RefineStatus::kNotVisible, false));
   EXPECT_FALSE(

@@ -44,7 +44,7 @@ struct PipelineOptions {
   int max_tracks = 200;
   int max_tracks_per_class = 50;
   double association_distance = 0.15;  // m, hypothesis to a track's prediction (same class)
-  double reacquire_distance = 0.6;     // m, for tracks that are not currently refined well
+  double reacquire_distance = 0.6;     // m, for tracks that may have moved (DetectionAssociation)
   int confirm_hits = 3;                // good refinements that confirm a tentative track ...
   // ... and detections associated with it (the one that started it counts): refinement alone
   // confirms a single false detection on an unknown thing of about the right size.

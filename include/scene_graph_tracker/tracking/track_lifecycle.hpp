@@ -189,8 +189,13 @@ struct Removal {
 // Association of detections with tracks.
 struct DetectionAssociation {
   // A track refined well this frame, or a child, is matched within association_distance; one
-  // whose fit failed may have moved unseen (reacquire_distance).
-  static double gate(RefineStatus last_fit, bool child, const LifecycleOptions& o);
+  // whose fit failed where rays reached it, seen missing, or tentative may have moved unseen
+  // (reacquire_distance). One that no ray reached and that was not seen missing (out of view,
+  // wholly hidden) is where it was last seen: a detection of its class farther away than
+  // association_distance is another object, not this one moved.
+  static bool mayHaveMoved(RefineStatus last_fit, const TrackLife& life);
+  static double gate(RefineStatus last_fit, bool child, const TrackLife& life,
+                     const LifecycleOptions& o);
   // A detection restarts a track whose fit failed (unless a weak fit placed it).
   static bool restarts(RefineStatus last_fit, bool placed_by_weak_fit);
 };

@@ -54,7 +54,8 @@ Eigen::MatrixXd FramePipeline::associationCosts(const std::vector<PoseHypothesis
     for (std::size_t k = 0; k < tracks_.size(); ++k) {
       const TrackedObject& o = tracks_[k].out;
       const double d = (o.T_map_object.translation() - in_map[h].translation()).norm();
-      const double gate = DetectionAssociation::gate(o.quality.status, isChild(o.node), lo);
+      const double gate =
+          DetectionAssociation::gate(o.quality.status, isChild(o.node), tracks_[k].life, lo);
       cost(h, k) = o.class_name == hypotheses[h].class_name && d < gate ? d : forbidden;
     }
   return cost;

@@ -176,7 +176,9 @@ Schema<T> associationParams() {
       number<T>("association_distance", kAssociation, PIPE(association_distance), 0.01, 2.0, "m",
                 kRuntime, "hypothesis to the predicted position of a track of its class"),
       number<T>("reacquire_distance", kAssociation, PIPE(reacquire_distance), 0.01, 5.0, "m",
-                kRuntime, "the same for tracks that are not currently refined well"),
+                kRuntime,
+                "the same for tracks that may have moved: tentative, seen missing, or not refined "
+                "where rays reach them (one no ray reaches keeps association_distance)"),
       flag<T>("contest_restarts", kAssociation, PIPE(contest_restarts), kRuntime,
               "a detection restarts a lost track only if the measurements support it better than "
               "the track pose"),

@@ -143,8 +143,18 @@ bool Removal::removes(const TrackLife& life, double stamp, const LifecycleOption
   return stale || sunk || absent;
 }
 
-double DetectionAssociation::gate(RefineStatus last_fit, bool child, const LifecycleOptions& o) {
-  return last_fit == RefineStatus::kOk || child ? o.association_distance : o.reacquire_distance;
+bool DetectionAssociation::mayHaveMoved(RefineStatus last_fit, const TrackLife& life) {
+  // Rays reached it and found no fit, or passed where it was: it may have moved. No ray reaching
+  // it (out of view, wholly hidden) says nothing: it is where it was last seen.
+  return life.state == TrackState::kTentative || life.absent_since >= 0.0 ||
+         last_fit != RefineStatus::kNotVisible;
+}
+
+double DetectionAssociation::gate(RefineStatus last_fit, bool child, const TrackLife& life,
+                                  const LifecycleOptions& o) {
+  const bool refined = last_fit == RefineStatus::kOk;
+  return refined || child || !mayHaveMoved(last_fit, life) ? o.association_distance
+                                                           : o.reacquire_distance;
 }
 
 bool DetectionAssociation::restarts(RefineStatus last_fit, bool placed_by_weak_fit) {
