@@ -107,11 +107,14 @@ def load_pairs(runs):
     """Reports of BASE OTHER [BASE2 OTHER2 ...]: (base, other, the directory that has none or
     None); with more than one pair, scenario names prefixed with their BASE's directory name."""
     base, other = {}, {}
+    names = [os.path.basename(os.path.normpath(r)) for r in runs[::2]]
+    if len(runs) > 2 and len(set(names)) < len(names):
+        raise ValueError('base directories need distinct names to pool: %s' % ', '.join(names))
     for i in range(0, len(runs), 2):
         b, o = load_reports(runs[i]), load_reports(runs[i + 1])
         if not b or not o:
             return None, None, runs[i] if not b else runs[i + 1]
-        prefix = os.path.basename(os.path.normpath(runs[i])) + '/' if len(runs) > 2 else ''
+        prefix = names[i // 2] + '/' if len(runs) > 2 else ''
         base.update({prefix + name: r for name, r in b.items()})
         other.update({prefix + name: r for name, r in o.items()})
     return base, other, None
@@ -164,7 +167,10 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if len(a.runs) % 2:
         ap.error('give the suite directories in pairs: BASE OTHER [BASE2 OTHER2 ...]')
-    base, other, empty = load_pairs(a.runs)
+    try:
+        base, other, empty = load_pairs(a.runs)
+    except ValueError as e:
+        ap.error(str(e))
     if empty is not None:
         print('suite_compare: no runs/*/report.json in %s' % empty, file=sys.stderr)
         return 1

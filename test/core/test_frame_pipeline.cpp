@@ -396,9 +396,8 @@ TEST(FramePipeline, ATrackSeenMissingWhereItHoversDropsOutOfSightAndStays) {
 // ray reaches it). With unseen_drop_m beyond the lift, the track drops onto the bench under it,
 // where the multimeter lies; without, it hovers on. When the detector sees the multimeter on the
 // bench (detected_down, from 1/3 s after the put-down on), those detections lie 0.35 m from a
-// track that no ray has reached for ten frames. Returns
-// where the confirmed multimeter tracks end and whether the second view leaves the hover place
-// out and shows the multimeter (else no test).
+// track that no ray has reached for ten frames. Returns where the confirmed multimeter tracks end
+// and whether the second view leaves the hover place out and shows the multimeter (else no test).
 struct PutDown {
   std::vector<Eigen::Vector3d> tracks;
   bool valid = false;
