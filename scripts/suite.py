@@ -13,7 +13,10 @@ suite's output DIR, read-only, and simulates only the scenarios it has no bag of
   OUTPUT/summary.json  `scenarios` (name, kinds, status, report) and, for every numeric
                        report.json key outside per_object, {median, worst, mean} under the same
                        nested name (worst: the minimum for recall-like keys, else the maximum);
-                       `by_kind`: the headline figures per kind of scenario.
+                       `by_kind`: the headline figures per kind of scenario;
+                       `objects_by_class`: per class, the object-frame recall and the shares
+                       of frames displaced, turned, missed, crossed; `worst_objects`: the ten
+                       objects of lowest recall and how their frames failed.
   OUTPUT/summary.md    the same as tables;  OUTPUT/recall.png  per-scenario recall.
 Exit status 1 when a scenario failed to simulate or evaluate.
 """

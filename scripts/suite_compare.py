@@ -78,29 +78,8 @@ def paired(base, other, key, equal):
 
 
 def by_class(reports, names):
-    """Per class: object-frame recall and the shares displaced / turned / missed."""
-    totals = {}
-    for name in names:
-        per_object = suite_summary.get_nested(reports[name], 'objects.per_object') or {}
-        for o in per_object.values():
-            n = o.get('evaluated', 0)
-            if not n or o.get('recall_add_or_adds_10') is None:
-                continue
-            t = totals.setdefault(o['class'], {'evaluated': 0, 'correct': 0.0, 'displaced': 0,
-                                               'turned': 0, 'missed': 0, 'crossed': 0})
-            t['evaluated'] += n
-            t['correct'] += o['recall_add_or_adds_10'] * n
-            for k in ('displaced', 'turned', 'missed', 'crossed'):
-                t[k] += o.get(k, 0)
-            t['has_crossed'] = t.get('has_crossed', False) or 'crossed' in o  # newer reports
-    out = {}
-    for cls, t in sorted(totals.items()):
-        n = t['evaluated']
-        out[cls] = {'object_frames': n, 'recall': t['correct'] / n,
-                    'displaced': t['displaced'] / n, 'turned': t['turned'] / n,
-                    'missed': t['missed'] / n,
-                    'crossed': t['crossed'] / n if t['has_crossed'] else None}
-    return out
+    """Per class: object-frame recall and the shares displaced / turned / missed / crossed."""
+    return suite_summary.objects_by_class(reports[name] for name in names)
 
 
 def load_pairs(runs):

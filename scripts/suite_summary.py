@@ -97,12 +97,59 @@ def hypotheses_by_class(entries):
     return dict(sorted(out.items()))
 
 
+FAILURES = ('displaced', 'turned', 'missed', 'crossed')
+
+
+def objects_by_class(reports):
+    """Per class over the reports' scored objects: the object-frame recall (each object's
+    ADD(-S) recall weighted by its scored frames) and the shares of those frames displaced,
+    turned, missed and crossed (None where the reports do not count crossed frames)."""
+    totals = {}
+    for report in reports:
+        for o in (get_nested(report, 'objects.per_object') or {}).values():
+            n = o.get('evaluated', 0)
+            if not n or o.get('recall_add_or_adds_10') is None:
+                continue
+            t = totals.setdefault(o['class'], dict({'evaluated': 0, 'correct': 0.0},
+                                                   **{k: 0 for k in FAILURES}))
+            t['evaluated'] += n
+            t['correct'] += o['recall_add_or_adds_10'] * n
+            for k in FAILURES:
+                t[k] += o.get(k, 0)
+            t['has_crossed'] = t.get('has_crossed', False) or 'crossed' in o  # newer reports
+    out = {}
+    for cls, t in sorted(totals.items()):
+        n = t['evaluated']
+        out[cls] = {'object_frames': n, 'recall': t['correct'] / n,
+                    **{k: t[k] / n for k in FAILURES[:3]},
+                    'crossed': t['crossed'] / n if t['has_crossed'] else None}
+    return out
+
+
+def worst_objects(entries, count=10):
+    """The `count` scored objects of lowest ADD(-S) recall over all scenarios, with their scored
+    frames, how many of those were displaced, turned, missed and crossed, and their switches."""
+    rows = []
+    for e in entries:
+        for oid, o in (get_nested(e.get('report') or {}, 'objects.per_object') or {}).items():
+            if o.get('evaluated') and o.get('recall_add_or_adds_10') is not None:
+                rows.append(dict({'scenario': e['name'], 'object': oid, 'class': o['class'],
+                                  'recall': float(o['recall_add_or_adds_10']),
+                                  'frames': o['evaluated'],
+                                  'switches': o.get('identity_switches', 0)},
+                                 **{k: o.get(k) for k in FAILURES}))
+    rows.sort(key=lambda r: (r['recall'], r['scenario'], r['object']))
+    return rows[:count]
+
+
 def summarise(entries, settings):
     ok = [e for e in entries if 'report' in e]
     summary = {'settings': settings, 'scenario_count': len(entries), 'failed': len(entries) - len(ok)}
     summary.update(aggregate([e['report'] for e in ok]))
     kinds = sorted({k for e in ok for k in e['kinds']})
     summary['hypotheses_by_class'] = hypotheses_by_class(ok)
+    summary['objects_by_class'] = objects_by_class(e['report'] for e in ok)
+    summary['worst_objects'] = worst_objects(ok)
     summary['by_kind'] = {}
     for kind in kinds:
         reports = [e['report'] for e in ok if kind in e['kinds']]
@@ -154,6 +201,20 @@ def markdown(summary):
         lines.append('| %s | %d | %d | %s | %s | %s | %s |' % (
             c, h['evaluated'], h['found'], fmt(h['rate']),
             *(fmt(h.get(k)) for k in HYPOTHESIS_ERRORS)))
+    lines += ['', '## Objects per class (share of their scored frames)', '',
+              '| class | object-frames | ADD(-S) recall | displaced | of them crossed | turned | '
+              'missed |', '|---|---|---|---|---|---|---|']
+    for c, o in summary['objects_by_class'].items():
+        lines.append('| %s | %d | %s | %s | %s | %s | %s |' % (
+            c, o['object_frames'], fmt(o['recall']), fmt(o['displaced']), fmt(o['crossed']),
+            fmt(o['turned']), fmt(o['missed'])))
+    lines += ['', '## Worst objects (scored frames displaced, turned, missed, crossed)', '',
+              '| scenario | object | ADD(-S) recall | frames | displaced | turned | missed | '
+              'crossed | switches |', '|---|---|---|---|---|---|---|---|---|']
+    for w in summary['worst_objects']:
+        lines.append('| %s | %s | %s | %d | %s | %s | %s | %s | %d |' % (
+            w['scenario'], w['object'], fmt(w['recall']), w['frames'],
+            *(fmt(w[k]) for k in FAILURES), w['switches']))
     lines += ['', '## By kind of scenario', '',
               '| kind | scenarios | ADD(-S) recall median | worst | switches worst | '
               'false tracks median |', '|---|---|---|---|---|---|']

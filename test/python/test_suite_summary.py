@@ -90,6 +90,35 @@ class SuiteSummaryTest(unittest.TestCase):
         self.assertAlmostEqual(carry['objects.recall_add_or_adds_10']['worst'], 0.5)
         self.assertEqual(self.summary['by_kind']['occlusion']['count'], 1)
 
+    def test_what_fails_per_class_and_the_worst_objects(self):
+        def scored(cls, recall, frames, **failures):
+            return dict({'class': cls, 'recall_add_or_adds_10': recall, 'evaluated': frames,
+                         'identity_switches': 1}, **failures)
+        entries = [
+            {'name': 'scenario_001', 'kinds': [], 'status': 'ok',
+             'report': {'objects': {'per_object': {
+                 'relay_1': scored('relay', 0.5, 100, displaced=30, turned=10, missed=10),
+                 'klt_1': scored('klt', 1.0, 300)}}}},
+            {'name': 'scenario_002', 'kinds': [], 'status': 'ok',
+             'report': {'objects': {'per_object': {
+                 'relay_1': scored('relay', 0.9, 300, displaced=10, missed=20, crossed=5),
+                 'klt_1': scored('klt', 0.0, 0)}}}},  # never scored: left out
+        ]
+        relay = suite_summary.objects_by_class(e['report'] for e in entries)['relay']
+        self.assertEqual(relay['object_frames'], 400)
+        self.assertAlmostEqual(relay['recall'], (0.5 * 100 + 0.9 * 300) / 400)
+        self.assertAlmostEqual(relay['displaced'], 40 / 400)
+        self.assertAlmostEqual(relay['missed'], 30 / 400)
+        self.assertAlmostEqual(relay['crossed'], 5 / 400)
+        worst = suite_summary.worst_objects(entries, count=2)
+        self.assertEqual([(w['scenario'], w['object']) for w in worst],
+                         [('scenario_001', 'relay_1'), ('scenario_002', 'relay_1')])
+        self.assertEqual((worst[0]['displaced'], worst[0]['turned'], worst[0]['crossed']),
+                         (30, 10, None))
+        md = suite_summary.markdown(dict(self.summary, objects_by_class={'relay': relay},
+                                         worst_objects=worst))
+        self.assertIn('| scenario_001 | relay_1 | 0.500 | 100 | 30 | 10 | 10 | — | 1 |', md)
+
     def test_files_are_written(self):
         with tempfile.TemporaryDirectory() as d:
             suite_summary.write(self.summary, d)
