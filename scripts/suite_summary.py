@@ -181,6 +181,25 @@ def fmt(v):
     return '—' if v is None else ('%.3f' % v if isinstance(v, float) else str(v))
 
 
+def failure_tables(summary):
+    """Markdown lines: what fails per class, and the worst objects."""
+    lines = ['', '## Objects per class (share of their scored frames)', '',
+             '| class | object-frames | ADD(-S) recall | displaced | of them crossed | turned | '
+             'missed |', '|---|---|---|---|---|---|---|']
+    for c, o in summary['objects_by_class'].items():
+        lines.append('| %s | %d | %s | %s | %s | %s | %s |' % (
+            c, o['object_frames'], fmt(o['recall']), fmt(o['displaced']), fmt(o['crossed']),
+            fmt(o['turned']), fmt(o['missed'])))
+    lines += ['', '## Worst objects (scored frames displaced, turned, missed, crossed)', '',
+              '| scenario | object | ADD(-S) recall | frames | displaced | turned | missed | '
+              'crossed | switches |', '|---|---|---|---|---|---|---|---|---|']
+    for w in summary['worst_objects']:
+        lines.append('| %s | %s | %s | %d | %s | %s | %s | %s | %d |' % (
+            w['scenario'], w['object'], fmt(w['recall']), w['frames'],
+            *(fmt(w[k]) for k in FAILURES), w['switches']))
+    return lines
+
+
 def markdown(summary):
     s = summary['settings']
     lines = ['# Scenario suite', '',
@@ -201,20 +220,7 @@ def markdown(summary):
         lines.append('| %s | %d | %d | %s | %s | %s | %s |' % (
             c, h['evaluated'], h['found'], fmt(h['rate']),
             *(fmt(h.get(k)) for k in HYPOTHESIS_ERRORS)))
-    lines += ['', '## Objects per class (share of their scored frames)', '',
-              '| class | object-frames | ADD(-S) recall | displaced | of them crossed | turned | '
-              'missed |', '|---|---|---|---|---|---|---|']
-    for c, o in summary['objects_by_class'].items():
-        lines.append('| %s | %d | %s | %s | %s | %s | %s |' % (
-            c, o['object_frames'], fmt(o['recall']), fmt(o['displaced']), fmt(o['crossed']),
-            fmt(o['turned']), fmt(o['missed'])))
-    lines += ['', '## Worst objects (scored frames displaced, turned, missed, crossed)', '',
-              '| scenario | object | ADD(-S) recall | frames | displaced | turned | missed | '
-              'crossed | switches |', '|---|---|---|---|---|---|---|---|---|']
-    for w in summary['worst_objects']:
-        lines.append('| %s | %s | %s | %d | %s | %s | %s | %s | %d |' % (
-            w['scenario'], w['object'], fmt(w['recall']), w['frames'],
-            *(fmt(w[k]) for k in FAILURES), w['switches']))
+    lines += failure_tables(summary)
     lines += ['', '## By kind of scenario', '',
               '| kind | scenarios | ADD(-S) recall median | worst | switches worst | '
               'false tracks median |', '|---|---|---|---|---|---|']
