@@ -97,7 +97,8 @@ def hypotheses_by_class(entries):
     return dict(sorted(out.items()))
 
 
-FAILURES = ('displaced', 'turned', 'missed', 'crossed')
+ALWAYS_COUNTED = ('displaced', 'turned', 'missed')
+FAILURES = ALWAYS_COUNTED + ('crossed',)  # crossed: counted by newer reports only
 
 
 def objects_by_class(reports):
@@ -121,7 +122,7 @@ def objects_by_class(reports):
     for cls, t in sorted(totals.items()):
         n = t['evaluated']
         out[cls] = {'object_frames': n, 'recall': t['correct'] / n,
-                    **{k: t[k] / n for k in FAILURES[:3]},
+                    **{k: t[k] / n for k in ALWAYS_COUNTED},
                     'crossed': t['crossed'] / n if t['has_crossed'] else None}
     return out
 
