@@ -164,11 +164,14 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
     e.sighting = sight(k, sets, gated ? &e.coast_agreement : nullptr);
     // A track seen missing, or that no ray reaches (out of view), drops: nothing seen holds it in
     // the air. Dropped, what the rays showed where it was says nothing of where it is now; an
-    // unreached one stays hidden.
+    // unreached one stays hidden. Not when this frame's fit found its object (a fit the track
+    // did not take: turned beyond the gate, or a lost track's that moved too far): something
+    // seen holds it where that fit is, as when a hand carries it on.
     const bool missing = e.sighting == Sighting::kMissing;
     const bool unreached = e.fit.status == RefineStatus::kNotVisible;
-    const bool dropped =
-        (missing || unreached) && options_.unseen_drop_m > 0.0 && dropsOutOfSight(k, sets);
+    const bool fitted = gated || e.fit.status == RefineStatus::kOk;
+    const bool dropped = (missing || unreached) && !fitted && options_.unseen_drop_m > 0.0 &&
+                         dropsOutOfSight(k, sets);
     if (dropped && missing) e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
   }
   for (std::size_t k : order)

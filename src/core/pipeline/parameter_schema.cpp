@@ -243,10 +243,11 @@ Schema<T> removalParams() {
           "the static map that removes the track (1: off; needs an outward-wound map)"),
       number<T>("sink_tolerance_m", kRemoval, PIPE(sink_tolerance_m), 0.0, 0.5, "m", kRuntime,
                 "depth behind the map surface that counts as sunk"),
-      number<T>("unseen_drop_m", kRemoval, PIPE(unseen_drop_m), 0.0, 1.0, "m", kRuntime,
-                "a coasting track seen missing where it is, or out of view, drops straight down by "
-                "up to this onto what lies below it, and stays there if it cannot be seen missing "
-                "there (0: off)"),
+      number<T>(
+          "unseen_drop_m", kRemoval, PIPE(unseen_drop_m), 0.0, 1.0, "m", kRuntime,
+          "a coasting track seen missing where it is, or out of view, whose fit did not find "
+          "it elsewhere, drops straight down by up to this onto what lies below it, and stays "
+          "there if it cannot be seen missing there (0: off)"),
       number<T>("max_hidden_fraction_for_absence", kRemoval, PIPE(max_hidden_fraction_for_absence),
                 0.0, 1.0, "", kRuntime,
                 "when other tracks hide more of the rays reaching a track, the rest are no "
