@@ -196,9 +196,9 @@ TEST(Confirmation, NeedsHitsDetectionsAndSupport) {
 }
 
 TEST(Confirmation, FitsExplainingTooFewRaysAreNoHits) {
-  EXPECT_FALSE(Confirmation::countsAsHit(TrackState::kTentative, 0.5, kOptions));
-  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kTentative, 0.6, kOptions));
-  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kConfirmed, 0.5, kOptions));
+  EXPECT_FALSE(Confirmation::countsAsHit(TrackState::kTentative, 0.5, 10.0, kOptions));
+  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kTentative, 0.6, 10.0, kOptions));
+  EXPECT_TRUE(Confirmation::countsAsHit(TrackState::kConfirmed, 0.5, 10.0, kOptions));
   TrackLife life;
   life.detections = 10;
   for (int frame = 0; frame < 10; ++frame)

@@ -51,6 +51,9 @@ struct PipelineOptions {
   int confirm_detections = 3;
   double confirm_inlier_ratio =
       0.55;  // ... and whose fits explain at least this fraction of their rays
+  // ... and whose model explains the rays near it better than the scene without it, by this score
+  // (registration/twin_evidence.hpp, presenceScore; 0: not weighed).
+  double confirm_presence_score = 2.0;
   // A tentative track's fit from fewer inliers than the refiner's alignment.min_points still
   // places the track when it has min_weak_fit_inliers and explains confirm_inlier_ratio of the
   // rays reaching the model: the next frame refines from there rather than from the detection

@@ -56,6 +56,15 @@ TwinEvidence twinLogLikelihoodRatios(RaycastScene& scene, NodeId node,
                                      const RangeNoise& noise,
                                      const TwinEvidenceOptions& options = {});
 
+// How much better the measurements near the instance `node` (at its pose in `scene`) are
+// explained with it than without it (the scene behind it: the map, the other instances): the
+// score of TwinEvidence for the scene with it against the scene without it. Near zero where
+// something else explains the same rays as well (a second model of one object, a flat model
+// laid on a bench within the noise), negative where its surface contradicts them.
+double presenceScore(RaycastScene& scene, NodeId node, const Eigen::AlignedBox3f& box,
+                     const std::vector<RangeMeasurements>& sets, const RangeNoise& noise,
+                     const TwinEvidenceOptions& options = {});
+
 // A track's accumulated evidence for each of its twins against its own orientation (log odds).
 // Each frame counts its score (TwinEvidence::z) beyond kNoiseScore, clipped to +-frame_cap: a
 // frame's rays are not independent (a depth camera's errors are correlated over an object), so

@@ -10,6 +10,8 @@
 // needs a ray-casting scene, so each is tested on hand-written evidence.
 #pragma once
 
+#include <limits>
+
 #include "scene_graph_tracker/registration/object_refiner.hpp"
 
 namespace sgt {
@@ -25,6 +27,7 @@ struct LifecycleOptions {
   int confirm_hits;
   int confirm_detections;
   double confirm_inlier_ratio;
+  double confirm_presence_score;
   int min_weak_fit_inliers;
   double fit_support_weight;
   double min_fit_support;
@@ -77,6 +80,9 @@ struct TrackEvidence {
   // tracks hide at most max_hidden_fraction_for_absence of it): the share of those rays its model
   // there explains. < 0: none such.
   double coast_agreement = -1.0;
+  // A tentative track's good fit: how much better the rays near it are explained with its model
+  // than without (presenceScore); NaN where not weighed.
+  double presence = std::numeric_limits<double>::quiet_NaN();
   bool sunk = false;               // its model lies partly inside the static map
   bool queued_for_search = false;  // an orientation search is already pending for it
 };
@@ -135,7 +141,8 @@ struct FitSupport {
 // A tentative track becomes a confirmed one after confirm_hits good fits that explain
 // confirm_inlier_ratio of their rays, confirm_detections detections and min_fit_support.
 struct Confirmation {
-  static bool countsAsHit(TrackState state, double inlier_ratio, const LifecycleOptions& o);
+  static bool countsAsHit(TrackState state, double inlier_ratio, double presence,
+                          const LifecycleOptions& o);
   static bool confirmed(const TrackLife& life, const LifecycleOptions& o);
 };
 

@@ -11,6 +11,7 @@ LifecycleOptions lifecycleOptions(const PipelineOptions& p) {
   o.association_distance = p.association_distance, o.reacquire_distance = p.reacquire_distance;
   o.confirm_hits = p.confirm_hits, o.confirm_detections = p.confirm_detections;
   o.confirm_inlier_ratio = p.confirm_inlier_ratio, o.min_weak_fit_inliers = p.min_weak_fit_inliers;
+  o.confirm_presence_score = p.confirm_presence_score;
   o.fit_support_weight = p.fit_support_weight, o.min_fit_support = p.min_fit_support;
   o.remove_after_s = p.remove_after_s, o.remove_tentative_after_s = p.remove_tentative_after_s;
   o.tentative_timeout_s = p.tentative_timeout_s;
@@ -174,9 +175,24 @@ void FramePipeline::gatherSceneEvidence(std::vector<TrackEvidence>& evidence,
                          dropsOutOfSight(k, sets);
     if (dropped && missing) e.sighting = Sighting::kThere, e.coast_agreement = -1.0;
   }
+  weighPresence(evidence, uses, sets);
   for (std::size_t k : order)
     evidence[k].sunk =
         !evidence[k].child && sunkIntoMap(tracks_[k].out.class_name, tracks_[k].out.T_map_object);
+}
+
+void FramePipeline::weighPresence(std::vector<TrackEvidence>& evidence,
+                                  const std::vector<FitUse>& uses,
+                                  const std::vector<RangeMeasurements>& sets) {
+  if (options_.confirm_presence_score <= 0.0) return;
+  bool committed = false;
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    const Track& t = tracks_[k];
+    if (t.life.state != TrackState::kTentative || uses[k] != FitUse::kUpdate) continue;
+    if (!committed) scene_.commit(), committed = true;
+    evidence[k].presence =
+        presenceScore(scene_, t.out.node, catalog_->get(t.out.class_name).box, sets, noise_);
+  }
 }
 
 }  // namespace sgt

@@ -207,6 +207,10 @@ Schema<T> confirmationParams() {
                 "... and detections associated with it (the one that started it counts)"),
       number<T>("confirm_inlier_ratio", kConfirmation, PIPE(confirm_inlier_ratio), 0.0, 1.0, "",
                 kRuntime, "... and whose fits explain at least this share of their rays"),
+      number<T>("confirm_presence_score", kConfirmation, PIPE(confirm_presence_score), 0.0, 100.0,
+                "", kRuntime,
+                "... and whose model explains the rays near it better than the scene without it "
+                "by this score (a second model of a tracked object adds nothing; 0 off)"),
       number<T>("min_weak_fit_inliers", kConfirmation, PIPE(min_weak_fit_inliers), 0, 1000, "",
                 kRuntime,
                 "a tentative track fit from fewer points than refine/min_points still places the "

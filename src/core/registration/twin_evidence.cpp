@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "scene_graph_tracker/registration/orientation_search.hpp"
@@ -55,52 +56,83 @@ std::vector<Eigen::Isometry3d> nearTwinTurns(const RaycastScene& scene, MeshId m
   return twins;
 }
 
-TwinEvidence twinLogLikelihoodRatios(RaycastScene& scene, NodeId node,
-                                     const Eigen::AlignedBox3f& box,
-                                     const std::vector<Eigen::Isometry3d>& poses,
-                                     const std::vector<RangeMeasurements>& sets,
-                                     const RangeNoise& noise, const TwinEvidenceOptions& options) {
+namespace {
+
+// Log likelihood ratios of the measurements near `extents` under scene configurations 1..n-1
+// against configuration 0, each set up by configure(k) before its cast; only rays that show
+// `node` in configuration 0 or k count.
+TwinEvidence compareConfigurations(RaycastScene& scene, NodeId node,
+                                   const std::vector<ObjectExtent>& extents, std::size_t n,
+                                   const std::function<void(std::size_t)>& configure,
+                                   const std::vector<RangeMeasurements>& sets,
+                                   const RangeNoise& noise, const TwinEvidenceOptions& options) {
   TwinEvidence out;
-  out.log_ratio.assign(poses.size(), 0.0);
-  out.z.assign(poses.size(), 0.0);
-  std::vector<double> squares(poses.size(), 0.0);
-  if (poses.size() < 2) return out;
-  std::vector<ObjectExtent> extents;
-  for (const Eigen::Isometry3d& T : poses) extents.push_back({T, box});
+  out.log_ratio.assign(n, 0.0);
+  out.z.assign(n, 0.0);
+  std::vector<double> squares(n, 0.0);
   for (const RangeMeasurements& m : sets) {
     const TileSet tiles =
         TileSet::covering(*m.rays, raysNearObjects(m, extents, options.roi_margin));
     std::vector<HitsLease> leases;
-    for (std::size_t k = 0; k < poses.size(); ++k) {
+    for (std::size_t k = 0; k < n; ++k) {
       leases.push_back(scratchHits(m.rays->width, m.rays->height));
-      scene.setInstancePose(node, poses[k]);
+      configure(k);
       scene.commit();
       scene.cast(*m.rays, m.T_world_sensor, *leases.back(), &tiles);
     }
     const RangeTolerance sigma(m, options.sigma_floor_m, noise, 1.0f);
+    constexpr float kNoHit = std::numeric_limits<float>::infinity();
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (!m.valid(i)) return;
       const RayHits& own = *leases[0];
       const float z = m.range[i];
       const float s = sigma.at(z);
-      const double l0 = own.hit(i) ? rayLogLikelihood(z - own.range[i], s, options.outlier_sigmas)
-                                   : rayLogLikelihood(std::numeric_limits<float>::infinity(), s,
-                                                      options.outlier_sigmas);
-      for (std::size_t k = 1; k < poses.size(); ++k) {
+      const double l0 =
+          rayLogLikelihood(own.hit(i) ? z - own.range[i] : kNoHit, s, options.outlier_sigmas);
+      for (std::size_t k = 1; k < n; ++k) {
         const RayHits& h = *leases[k];
-        if (h.node[i] != node && own.node[i] != node) continue;  // neither pose shows the object
-        const float e = h.hit(i) ? z - h.range[i] : std::numeric_limits<float>::infinity();
+        if (h.node[i] != node && own.node[i] != node) continue;  // neither shows the object
+        const float e = h.hit(i) ? z - h.range[i] : kNoHit;
         const double d = rayLogLikelihood(e, s, options.outlier_sigmas) - l0;
         out.log_ratio[k] += d;
         squares[k] += d * d;
       }
     });
   }
-  scene.setInstancePose(node, poses[0]);
-  scene.commit();
-  for (std::size_t k = 1; k < poses.size(); ++k)
+  for (std::size_t k = 1; k < n; ++k)
     if (squares[k] > 0.0) out.z[k] = out.log_ratio[k] / std::sqrt(squares[k]);
   return out;
+}
+
+}  // namespace
+
+TwinEvidence twinLogLikelihoodRatios(RaycastScene& scene, NodeId node,
+                                     const Eigen::AlignedBox3f& box,
+                                     const std::vector<Eigen::Isometry3d>& poses,
+                                     const std::vector<RangeMeasurements>& sets,
+                                     const RangeNoise& noise, const TwinEvidenceOptions& options) {
+  if (poses.size() < 2)
+    return {std::vector<double>(poses.size(), 0.0), std::vector<double>(poses.size(), 0.0)};
+  std::vector<ObjectExtent> extents;
+  for (const Eigen::Isometry3d& T : poses) extents.push_back({T, box});
+  TwinEvidence out = compareConfigurations(
+      scene, node, extents, poses.size(),
+      [&](std::size_t k) { scene.setInstancePose(node, poses[k]); }, sets, noise, options);
+  scene.setInstancePose(node, poses[0]);
+  scene.commit();
+  return out;
+}
+
+double presenceScore(RaycastScene& scene, NodeId node, const Eigen::AlignedBox3f& box,
+                     const std::vector<RangeMeasurements>& sets, const RangeNoise& noise,
+                     const TwinEvidenceOptions& options) {
+  const std::vector<ObjectExtent> extents{{scene.instancePose(node), box}};
+  const TwinEvidence absent = compareConfigurations(
+      scene, node, extents, 2, [&](std::size_t k) { scene.setInstanceEnabled(node, k == 0); }, sets,
+      noise, options);
+  scene.setInstanceEnabled(node, true);
+  scene.commit();
+  return -absent.z[1];
 }
 
 bool TwinBelief::update(const Eigen::Matrix3d& R, std::size_t twin, double z, double frame_cap,

@@ -18,7 +18,7 @@ void takeGoodFit(Transition& t, const TrackLife& before, const TrackEvidence& e,
   const bool contradicted = FitSupport::unsupported(e.child, life.fit_support, o);
   life.absent_since = absentSince(life.absent_since,
                                   before.state != TrackState::kTentative && contradicted, e.stamp);
-  if (Confirmation::countsAsHit(before.state, e.fit.inlier_ratio, o)) ++life.hits;
+  if (Confirmation::countsAsHit(before.state, e.fit.inlier_ratio, e.presence, o)) ++life.hits;
   const bool confirmed = Confirmation::confirmed(life, o);
   // A real object now: is its rotation the right one?
   t.search_orientation = confirmed && before.state == TrackState::kTentative;
@@ -92,10 +92,15 @@ bool FitSupport::unsupported(bool child, double support, const LifecycleOptions&
   return !child && support >= 0.0 && support < o.min_fit_support;
 }
 
-bool Confirmation::countsAsHit(TrackState state, double inlier_ratio, const LifecycleOptions& o) {
+bool Confirmation::countsAsHit(TrackState state, double inlier_ratio, double presence,
+                               const LifecycleOptions& o) {
   // A detection on something else (a walking person) lets a model fit a patch of it, but then
-  // explains only part of its rays.
-  return state != TrackState::kTentative || inlier_ratio >= o.confirm_inlier_ratio;
+  // explains only part of its rays. A model whose rays the scene explains as well without it (a
+  // second model of a tracked object, a flat one laid on the bench within the noise) shows
+  // nothing new.
+  const bool shows_something = !(presence < o.confirm_presence_score);
+  return state != TrackState::kTentative ||
+         (inlier_ratio >= o.confirm_inlier_ratio && shows_something);
 }
 
 bool Confirmation::confirmed(const TrackLife& life, const LifecycleOptions& o) {
