@@ -203,8 +203,9 @@ class FramePipeline {
   void gatherSceneEvidence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
                            const std::vector<std::size_t>& order,
                            const std::vector<RangeMeasurements>& sets);
-  // Each tentative track with a good fit this frame: how much its model adds to what the scene
-  // explains (TrackEvidence::presence), when confirm_presence_score asks for it.
+  // Each tentative track whose good fit this frame explains confirm_inlier_ratio of its rays: how
+  // much its model adds to what the scene explains (TrackEvidence::presence), when
+  // confirm_presence_score asks for it.
   void weighPresence(std::vector<TrackEvidence>& evidence, const std::vector<FitUse>& uses,
                      const std::vector<RangeMeasurements>& sets);
   void dropTrack(std::size_t k);

@@ -185,12 +185,13 @@ void FramePipeline::weighPresence(std::vector<TrackEvidence>& evidence,
                                   const std::vector<FitUse>& uses,
                                   const std::vector<RangeMeasurements>& sets) {
   if (options_.confirm_presence_score <= 0.0) return;
-  bool committed = false;
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     const Track& t = tracks_[k];
-    if (t.life.state != TrackState::kTentative || uses[k] != FitUse::kUpdate) continue;
-    if (!committed) scene_.commit(), committed = true;
-    evidence[k].presence =
+    // Only where it decides: a fit explaining too few of its rays is no hit anyway.
+    if (t.life.state != TrackState::kTentative || uses[k] != FitUse::kUpdate ||
+        evidence[k].fit.inlier_ratio < options_.confirm_inlier_ratio)
+      continue;
+    evidence[k].presence =  // presenceScore commits the scene before it casts
         presenceScore(scene_, t.out.node, catalog_->get(t.out.class_name).box, sets, noise_);
   }
 }
