@@ -3,7 +3,8 @@
 // 1.5 mm at 1 m (z^2), LiDAR noise 1 cm. Argument: occlusion in percent — a board that is not in
 // the tracker's scene stands between the camera and the objects, hiding that share of the
 // objects' camera pixels. Counter add_s_mm: mean ADD-S over the five objects after refinement.
-// The refiner runs with the options the tracker gives it (PipelineOptions::refiner).
+// The refiner runs with the options the tracker gives it (PipelineOptions::refiner), or with
+// those of the parameter file in BENCH_PARAMS (config/tracker.yaml's schema, as evaluate --params).
 // BM_PclIcpFrame / BM_PclIcpPointToPointFrame: the PCL ICP baseline on the same frames (see
 // pcl_icp_baseline.hpp), point-to-plane and point-to-point.
 #include <benchmark/benchmark.h>
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <random>
 
@@ -19,6 +21,7 @@
 #include "pcl_icp_baseline.hpp"
 #endif
 #include "scene_graph_tracker/geometry/primitives.hpp"
+#include "scene_graph_tracker/pipeline/parameter_schema.hpp"
 #include "scene_graph_tracker/pipeline/pipeline_options.hpp"
 #include "scene_graph_tracker/registration/object_refiner.hpp"
 #include "scene_graph_tracker/simulation/noise.hpp"
@@ -26,6 +29,14 @@
 
 namespace sgt::bench {
 namespace {
+
+// The tracker's refiner options, with BENCH_PARAMS's file applied when it is set.
+RefinerOptions refinerOptions() {
+  params::TrackerParameters p;
+  if (const char* path = std::getenv("BENCH_PARAMS"); path && *path)
+    params::applyYamlFile(params::trackerSchema(), p, path);
+  return p.pipeline.refiner;
+}
 
 struct Frame {
   PaperScene s = makePaperScene();
@@ -138,7 +149,7 @@ void BM_RefineFrame(benchmark::State& state) {
   Frame& f = frame(static_cast<int>(state.range(0)));
   std::vector<RefineTarget> targets;
   for (const auto& o : f.s.objects) targets.push_back({o.node, nullptr});
-  const ObjectRefiner refiner(PipelineOptions().refiner);
+  const ObjectRefiner refiner(refinerOptions());
   RefineResult result;
   for (auto _ : state) {
     state.PauseTiming();
@@ -165,7 +176,7 @@ BENCHMARK(BM_RefineFrame)->Arg(0)->Arg(30)->Arg(60)->Unit(benchmark::kMillisecon
 void BM_RefineObjectOneCore(benchmark::State& state) {
   Frame& f = frame(0);
   tbb::global_control one_core(tbb::global_control::max_allowed_parallelism, 1);
-  const ObjectRefiner refiner(PipelineOptions().refiner);
+  const ObjectRefiner refiner(refinerOptions());
   const std::vector<RangeMeasurements> depth = {f.measurements.front()};
   const std::size_t n = f.s.objects.size();
   for (std::size_t k = 0; k < n; ++k) f.s.scene->setInstancePose(f.s.objects[k].node, f.initial[k]);

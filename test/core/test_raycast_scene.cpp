@@ -2,6 +2,9 @@
 // instances, shared meshes, moving / removing / disabling instances, tiles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+#include <random>
 #include <thread>
 
 #include "scene_graph_tracker/geometry/primitives.hpp"
@@ -239,6 +242,58 @@ TEST(RaycastScene, ClosestPointOnAMeshWithinARadius) {
   EXPECT_NEAR(sp.point.z(), 0.3f, 1e-5f);
   EXPECT_FALSE(
       scene.closestPoint(box, {0.5f, 0.0f, 0.0f}, 0.1f, sp));  // 40 cm away: beyond the radius
+}
+
+// Distance from p to segment ab.
+float segmentDistance(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
+                      const Eigen::Vector3f& b) {
+  const Eigen::Vector3f ab = b - a;
+  const float t =
+      ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.f, 1.f) : 0.f;
+  return (a + t * ab - p).norm();
+}
+
+// Distance from p to triangle abc, by its plane when p projects inside, else by its edges.
+float triangleDistance(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                       const Eigen::Vector3f& c) {
+  const Eigen::Vector3f n = (b - a).cross(c - a);
+  if (n.squaredNorm() > 0) {
+    const Eigen::Vector3f q = p - n * ((p - a).dot(n) / n.squaredNorm());
+    const bool inside = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
+                        (a - c).cross(q - c).dot(n) >= 0;
+    if (inside) return (q - p).norm();
+  }
+  return std::min({segmentDistance(p, a, b), segmentDistance(p, b, c), segmentDistance(p, c, a)});
+}
+
+// The closest point query against a brute force over every triangle, on a sphere mesh (whose pole
+// triangles are slivers) from points inside, outside and beyond the radius.
+TEST(RaycastScene, ClosestPointMatchesABruteForceOverEveryTriangle) {
+  const auto mesh = std::make_shared<TriangleMesh>(makeSphere(0.05f, 24, 12));
+  RaycastScene scene;
+  const MeshId id = scene.addMesh(mesh);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-0.09f, 0.09f);
+  int found = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Vector3f p(u(rng), u(rng), u(rng));
+    float best = std::numeric_limits<float>::infinity();
+    for (const Triangle& t : mesh->triangles)
+      best = std::min(best, triangleDistance(p, mesh->vertices[t[0]], mesh->vertices[t[1]],
+                                             mesh->vertices[t[2]]));
+    SurfacePoint sp;
+    const float radius = 0.02f;
+    const bool hit = scene.closestPoint(id, p, radius, sp);
+    if (best < radius - 1e-5f) {
+      ASSERT_TRUE(hit) << i;
+      EXPECT_NEAR(sp.distance, best, 1e-5f) << i;
+      EXPECT_NEAR((sp.point - p).norm(), best, 1e-5f) << i;
+      ++found;
+    } else if (best > radius + 1e-5f) {
+      EXPECT_FALSE(hit) << i;
+    }
+  }
+  EXPECT_GT(found, 100);
 }
 
 }  // namespace

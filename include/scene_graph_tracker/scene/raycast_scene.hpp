@@ -101,6 +101,12 @@ struct SurfacePoint {
   float distance;
 };
 
+// A triangle's plane: normal.dot(p) + offset = 0 (zero normal: degenerate triangle).
+struct TrianglePlane {
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+  float offset = 0.0f;
+};
+
 struct RaycastSceneOptions {
   // Build quality of each mesh's BVH, built once per mesh: 0 low, 1 medium, 2 high.
   int object_build_quality = 2;
@@ -174,8 +180,9 @@ class RaycastScene {
   RTCSceneTy* top_ = nullptr;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
   std::vector<RTCSceneTy*> mesh_scenes_;
-  std::vector<Eigen::AlignedBox3f> boxes_;  // per mesh
-  std::vector<Slot> slots_;                 // indexed by Embree geometry id (dense)
+  std::vector<Eigen::AlignedBox3f> boxes_;          // per mesh
+  std::vector<std::vector<TrianglePlane>> planes_;  // per mesh, per triangle (closest points)
+  std::vector<Slot> slots_;                         // indexed by Embree geometry id (dense)
   std::vector<unsigned> free_slots_;
   std::unordered_map<NodeId, unsigned> slot_of_node_;
   NodeId static_map_node_ = kNoNode;

@@ -51,8 +51,24 @@ Eigen::Vector3f closestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Per triangle: unit normal and offset (n.p + d = 0 on its plane); zero for a degenerate one,
+// which then never rules its triangle out.
+std::vector<TrianglePlane> trianglePlanes(const TriangleMesh& m) {
+  std::vector<TrianglePlane> planes(m.triangles.size());
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    const Eigen::Vector3f a = m.vertices[t[0]];
+    const Eigen::Vector3f n = (m.vertices[t[1]] - a).cross(m.vertices[t[2]] - a);
+    if (!(n.norm() > 0.0f)) continue;
+    planes[i].normal = n.normalized();
+    planes[i].offset = -planes[i].normal.dot(a);
+  }
+  return planes;
+}
+
 struct PointQueryState {
   const TriangleMesh* mesh;
+  const std::vector<TrianglePlane>* planes;
   Eigen::Vector3f best;
   std::uint32_t primitive;
   bool found = false;
@@ -63,6 +79,12 @@ bool closestTriangleCallback(RTCPointQueryFunctionArguments* args) {
   const Triangle& t = state->mesh->triangles[args->primID];
   const auto& v = state->mesh->vertices;
   const Eigen::Vector3f q(args->query->x, args->query->y, args->query->z);
+  // The distance to the triangle's plane never exceeds the distance to the triangle: a plane
+  // beyond the radius (with a margin over float rounding) rules the triangle out cheaply, and
+  // exactly where the full test below would have.
+  const TrianglePlane& plane = (*state->planes)[args->primID];
+  if (std::abs(plane.normal.dot(q) + plane.offset) > args->query->radius * 1.0001f + 1e-7f)
+    return false;
   const Eigen::Vector3f c = closestOnTriangle(q, v[t[0]], v[t[1]], v[t[2]]);
   const float d = (c - q).norm();
   if (d >= args->query->radius) return false;
@@ -171,6 +193,7 @@ MeshId RaycastScene::addMesh(std::shared_ptr<const TriangleMesh> mesh) {
   rtcCommitScene(scene);
   checkDevice(device_, "mesh BVH build");
   boxes_.push_back(mesh->boundingBox());
+  planes_.push_back(trianglePlanes(*mesh));
   meshes_.push_back(std::move(mesh));
   mesh_scenes_.push_back(scene);
   return static_cast<MeshId>(meshes_.size() - 1);
@@ -400,7 +423,7 @@ bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float rad
   query.time = 0.0f;
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
-  PointQueryState state{&m, Eigen::Vector3f::Zero(), 0};
+  PointQueryState state{&m, &planes_[mesh], Eigen::Vector3f::Zero(), 0};
   rtcPointQuery(mesh_scenes_[mesh], &query, &context, closestTriangleCallback, &state);
   if (!state.found) return false;
   const Triangle& t = m.triangles[state.primitive];
