@@ -213,13 +213,11 @@ class FramePipeline {
   void setTracksEnabled(bool enabled);
 
   // What the measurements show of track k at its current pose in the scene. Missing: enough
-  // rays reach its model (min_points), most of those that would reach it without the other
-  // tracks (max_hidden_fraction_for_absence), and most of them pass through where its surface
-  // should be (measured beyond it; those measured before it within absence_noise_sigmas count
-  // against). Hidden: too few rays reach it, or it would be missing but other tracks hide more of
-  // it. There: otherwise. frame_pipeline_visibility.cpp.
+  // rays reach its model (min_points) and most of them pass through where its surface should be
+  // (measured beyond it; those measured before it within absence_noise_sigmas count against).
+  // Hidden: too few rays reach it. There: otherwise. frame_pipeline_visibility.cpp.
   // `agreement` (when given): the share of those rays that agree with the model, or -1 when too
-  // few reach it or other tracks hide more of it.
+  // few reach it.
   Sighting sight(std::size_t k, const std::vector<RangeMeasurements>& sets,
                  double* agreement = nullptr);
   // Track k, seen absent where it coasts or out of view, dropped straight down (world -z) by up to

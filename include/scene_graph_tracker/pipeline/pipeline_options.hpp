@@ -107,11 +107,6 @@ struct PipelineOptions {
   // detection restarts it; unless the fit explains a larger share of its rays than the track's
   // fits have (then the track was wrong). 0: off; 16.27 is the 99.9 % bound.
   double fit_turn_gate = 16.27;
-  // Evidence of absence needs most of a confirmed object in view: when other tracked objects
-  // cover more than this fraction of the rays that would reach it without them, the few rays
-  // left (which graze the occluder and miss a track only a little off) are no evidence and the
-  // track coasts.
-  double max_hidden_fraction_for_absence = 0.5;
   // A ray that shows an object missing passes through where its surface should be: its
   // measurement lies beyond it. Depth noise puts as many measurements of a present object before
   // its surface as beyond it, so a ray measured before the surface by up to this many noise sigmas

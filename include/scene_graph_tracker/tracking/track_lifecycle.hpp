@@ -76,9 +76,8 @@ struct TrackEvidence {
   ObjectQuality fit;                     // this frame's refinement
   double fit_jump_m = 0.0;               // how far the refinement moved it
   Sighting sighting = Sighting::kThere;  // a coasting track's
-  // A track whose fit the turn gate refused, in view where it coasts (enough rays reach it, other
-  // tracks hide at most max_hidden_fraction_for_absence of it): the share of those rays its model
-  // there explains. < 0: none such.
+  // A track whose fit the turn gate refused, in view where it coasts (enough rays reach it): the
+  // share of those rays its model there explains. < 0: none such.
   double coast_agreement = -1.0;
   // A tentative track's good fit: how much better the rays near it are explained with its model
   // than without (presenceScore); NaN where not weighed.

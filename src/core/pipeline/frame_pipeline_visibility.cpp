@@ -1,7 +1,6 @@
 // FramePipeline: how well a track is seen, for the weight of its fits and for evidence of absence.
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "scene_graph_tracker/pipeline/frame_pipeline.hpp"
 #include "scene_graph_tracker/registration/ray_regions.hpp"
@@ -29,8 +28,8 @@ namespace {
 // Rays of the sets near `extent` (as refinement's last round casts them) with a valid
 // measurement that hit `node`: all of them; those whose measurement lies within `threshold` of
 // the hit (agreeing); and those measured before the hit by more than the threshold and at most
-// `window` (in front). With `window`, rays stop at the measurement plus the window, so a ray
-// blocked by something closer does not count; without it they are cast to the end.
+// `window` (in front; window_sigmas of the depth noise). Rays stop at the measurement plus the
+// window, so a ray blocked by something closer does not count.
 struct RayCounts {
   int reaching = 0, agreeing = 0, in_front = 0;
   // The rays whose measurement lies beyond the surface: they pass through where it should be.
@@ -38,7 +37,7 @@ struct RayCounts {
 };
 RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& extent,
                     const std::vector<RangeMeasurements>& sets, const RefinerOptions& ro,
-                    const std::optional<float>& window_sigmas) {
+                    float window_sigmas) {
   RayCounts c;
   for (const RangeMeasurements& m : sets) {
     const HitsLease lease = scratchHits(m.rays->width, m.rays->height);
@@ -48,12 +47,10 @@ RayCounts countRays(const RaycastScene& scene, NodeId node, const ObjectExtent& 
     const TileSet tiles = TileSet::covering(*m.rays, raysNearObjects(m, {extent}, ro.roi_margin),
                                             coarse ? ro.ray_stride : 1);
     const RangeTolerance threshold = noiseBand(m, ro.max_dist_last, ro);
-    const RangeTolerance window = window_sigmas
-                                      ? RangeTolerance(m, ro.max_dist_last, ro.noise,
-                                                       std::max(*window_sigmas, ro.noise_sigmas))
-                                      : threshold;
-    scene.cast(*m.rays, m.T_world_sensor, hits, &tiles,
-               window_sigmas ? CastLimit{&m.range, window} : CastLimit{}, kRangeAndNodeOnly);
+    const RangeTolerance window(m, ro.max_dist_last, ro.noise,
+                                std::max(window_sigmas, ro.noise_sigmas));
+    scene.cast(*m.rays, m.T_world_sensor, hits, &tiles, CastLimit{&m.range, window},
+               kRangeAndNodeOnly);
     tiles.forEachRay(*m.rays, [&](std::size_t i) {
       if (hits.node[i] != node || !m.valid(i)) return;
       ++c.reaching;
@@ -74,24 +71,15 @@ Sighting FramePipeline::sight(std::size_t k, const std::vector<RangeMeasurements
   const NodeId node = tracks_[k].out.node;
   const ObjectExtent extent{scene_.instancePose(node), scene_.meshBox(scene_.instanceMesh(node))};
   const RefinerOptions ro = withSensorNoise(options_.refiner);
-  const auto sigmas = std::make_optional(static_cast<float>(options_.absence_noise_sigmas));
-  const RayCounts seen = countRays(scene_, node, extent, sets, ro, sigmas);
+  const RayCounts seen =
+      countRays(scene_, node, extent, sets, ro, static_cast<float>(options_.absence_noise_sigmas));
   if (seen.reaching < ro.alignment.min_points) return Sighting::kHidden;
-  // Most rays that reach it pass through where its surface should be.
-  const bool missing = seen.seenThrough() > (1.0 - ro.min_inlier_ratio) * seen.reaching;
-  if (!missing && !agreement) return Sighting::kThere;
-  for (const Track& t : tracks_)
-    if (t.out.node != node) scene_.setInstanceEnabled(t.out.node, false);
-  scene_.commit();
-  const RayCounts alone = countRays(scene_, node, extent, sets, ro, std::nullopt);
-  for (const Track& t : tracks_) scene_.setInstanceEnabled(t.out.node, true);
-  scene_.commit();
-  const bool in_view =
-      seen.reaching >= (1.0 - options_.max_hidden_fraction_for_absence) * alone.reaching;
-  if (agreement && in_view)
+  if (agreement)
     *agreement = static_cast<double>(seen.agreeing) / std::max(1, seen.reaching - seen.in_front);
-  if (!missing) return Sighting::kThere;
-  return in_view ? Sighting::kMissing : Sighting::kHidden;
+  // Most rays that reach it pass through where its surface should be, however much of it other
+  // tracks hide: a ray stopped by one is not counted, one that passes them is evidence.
+  const bool missing = seen.seenThrough() > (1.0 - ro.min_inlier_ratio) * seen.reaching;
+  return missing ? Sighting::kMissing : Sighting::kThere;
 }
 
 bool FramePipeline::dropsOutOfSight(std::size_t k, const std::vector<RangeMeasurements>& sets) {

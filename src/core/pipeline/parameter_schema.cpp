@@ -252,10 +252,6 @@ Schema<T> removalParams() {
           "a coasting track seen missing where it is, or out of view, whose fit did not find "
           "it elsewhere, drops straight down by up to this onto what lies below it, and stays "
           "there if it cannot be seen missing there (0: off)"),
-      number<T>("max_hidden_fraction_for_absence", kRemoval, PIPE(max_hidden_fraction_for_absence),
-                0.0, 1.0, "", kRuntime,
-                "when other tracks hide more of the rays reaching a track, the rest are no "
-                "evidence of absence"),
       number<T>("absence_noise_sigmas", kRemoval, PIPE(absence_noise_sigmas), 0.0, 10.0, "",
                 kRuntime,
                 "a ray measured up to this many depth noise sigmas before the surface of a track "
