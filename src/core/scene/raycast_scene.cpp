@@ -426,11 +426,9 @@ bool RaycastScene::closestPoint(MeshId mesh, const Eigen::Vector3f& p, float rad
   PointQueryState state{&m, &planes_[mesh], Eigen::Vector3f::Zero(), 0};
   rtcPointQuery(mesh_scenes_[mesh], &query, &context, closestTriangleCallback, &state);
   if (!state.found) return false;
-  const Triangle& t = m.triangles[state.primitive];
-  const Eigen::Vector3f n =
-      (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+  const Eigen::Vector3f& n = planes_[mesh][state.primitive].normal;  // zero: degenerate
   out.point = state.best;
-  out.normal = n.norm() > 0 ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f::UnitZ();
+  out.normal = n.isZero(0.0f) ? Eigen::Vector3f::UnitZ() : n;
   out.distance = (state.best - p).norm();
   return true;
 }
